@@ -1,0 +1,1 @@
+"""phonglab: an interactive teaching app for the Phong illumination model."""

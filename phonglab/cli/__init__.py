@@ -1,0 +1,72 @@
+"""The ``phonglab`` command line: serve, export, check, plan, bench.
+
+Each subcommand lives in its own module of this package and exposes two
+functions::
+
+    def add_parser(subparsers) -> argparse.ArgumentParser: ...
+    def run(args) -> int: ...          # the process exit status
+
+Modules are imported only when their subcommand runs, so ``phonglab check``
+does not pay for importing VTK or trame.
+
+Exit status: 0 success, 1 the files or scene had problems (``check``), 2 bad
+usage or bad input (argparse's own convention), as every subcommand documents.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+#: subcommand name -> (module, one-line help)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "serve": ("phonglab.cli.serve", "open the lesson app in a browser"),
+    "export": ("phonglab.cli.export", "render a scene or lesson to PNG/SVG/PDF"),
+    "check": ("phonglab.cli.check", "validate scene and lesson files"),
+    "plan": ("phonglab.cli.plan", "show which effects a scene computes and skips"),
+    "bench": ("phonglab.cli.bench", "measure speed and accuracy (ratios, same run)"),
+}
+
+
+class UsageError(Exception):
+    """Bad input on the command line: printed as one line, exit status 2."""
+
+
+def _load(name: str):
+    return importlib.import_module(COMMANDS[name][0])
+
+
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="phonglab",
+        description="phonglab: learn the Phong illumination model by moving sliders.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name, (_, help_text) in COMMANDS.items():
+        if name == only:
+            _load(name).add_parser(sub)
+        else:  # a placeholder lists the command in `phonglab --help` without importing it
+            sub.add_parser(name, help=help_text, add_help=False)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    parser = build_parser(command if command in COMMANDS else None)
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    try:
+        return int(_load(args.command).run(args) or 0)
+    except UsageError as exc:
+        print(f"phonglab {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,5 @@
+import sys
+
+from phonglab.cli import main
+
+sys.exit(main())

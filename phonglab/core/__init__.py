@@ -1,0 +1,1 @@
+"""phonglab.core"""
