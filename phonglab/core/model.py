@@ -1,0 +1,332 @@
+"""Materials and lights: frozen, validated descriptions of what is shaded.
+
+Validation happens once, here, when an object is made: every coefficient is a
+finite number (or an RGB triple of them), never negative; a bad value raises
+:class:`InvalidValue` (a ``ValueError``) naming the field, the value and what is
+allowed. The shading code trusts these objects and does not check again.
+
+Directions follow the package convention: they point *away from the surface*,
+so a :class:`DirectionalLight`'s ``direction`` points towards the light.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields
+
+__all__ = [
+    "InvalidValue",
+    "Material",
+    "Light",
+    "AmbientLight",
+    "PointLight",
+    "DirectionalLight",
+    "SpotLight",
+    "light_from_homogeneous",
+    "DISTANCE_FLOOR",
+    "ATTENUATION_MAX",
+]
+
+#: Attenuation uses ``max(d, DISTANCE_FLOOR)`` for the light's distance ``d``.
+DISTANCE_FLOOR = 1e-6
+#: The attenuation factor never exceeds this (its denominator is floored at the inverse).
+ATTENUATION_MAX = 1e12
+
+RGB = tuple[float, float, float]
+Vec3 = tuple[float, float, float]
+
+
+class InvalidValue(ValueError):
+    """A value refused at the boundary.
+
+    Attributes
+    ----------
+    field : str
+        Where the value was given, e.g. ``"Material.kd"`` or ``"SpotLight.cutoff"``.
+    value : object
+        The value as given.
+    allowed : str
+        What would have been accepted.
+    """
+
+    def __init__(self, field: str, value, allowed: str):
+        self.field, self.value, self.allowed = field, value, allowed
+        super().__init__(f"{field}: {allowed}, got {_show(value)}")
+
+
+def _show(value) -> str:
+    try:
+        return repr(tuple(value)) if not isinstance(value, (str, bytes)) else repr(value)
+    except TypeError:
+        return repr(value)
+
+
+def _number(where: str, value, *, minimum: float | None = 0.0, allowed: str | None = None) -> float:
+    """A finite float, optionally >= minimum."""
+    text = allowed or ("a finite number" + (f" >= {minimum:g}" if minimum is not None else ""))
+    if isinstance(value, bool):
+        raise InvalidValue(where, value, f"must be {text}")
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InvalidValue(where, value, f"must be {text}") from None
+    if not math.isfinite(x) or (minimum is not None and x < minimum):
+        raise InvalidValue(where, value, f"must be {text}")
+    return x
+
+
+def _rgb(where: str, value) -> RGB:
+    """A scalar or an RGB triple of finite numbers >= 0, as a triple."""
+    allowed = "must be a finite number >= 0 or an RGB triple of them"
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        x = _number(where, value, allowed=allowed[8:])
+        return (x, x, x)
+    try:
+        items = list(value)
+    except TypeError:
+        raise InvalidValue(where, value, allowed) from None
+    if len(items) != 3:
+        raise InvalidValue(where, value, allowed)
+    return tuple(_number(where, x, allowed=allowed[8:]) for x in items)  # type: ignore[return-value]
+
+
+def _vec3(where: str, value, *, nonzero: bool = False) -> Vec3:
+    """Three finite numbers (any sign); optionally not all zero."""
+    allowed = "must be 3 finite numbers" + (", not all zero" if nonzero else "")
+    try:
+        items = list(value)
+    except TypeError:
+        raise InvalidValue(where, value, allowed) from None
+    if len(items) != 3:
+        raise InvalidValue(where, value, allowed)
+    out = []
+    for x in items:
+        if isinstance(x, bool):
+            raise InvalidValue(where, value, allowed)
+        try:
+            f = float(x)
+        except (TypeError, ValueError):
+            raise InvalidValue(where, value, allowed) from None
+        if not math.isfinite(f):
+            raise InvalidValue(where, value, allowed)
+        out.append(f)
+    if nonzero and not any(out):
+        raise InvalidValue(where, value, allowed)
+    return tuple(out)  # type: ignore[return-value]
+
+
+def _attenuation(where: str, value) -> Vec3:
+    """Coefficients (a, b, c) with a + b d + c d² > 0 for every d >= DISTANCE_FLOOR."""
+    a, b, c = _vec3(where, value)
+    allowed = (
+        "must be (a, b, c) with a + b·d + c·d² > 0 at every distance d >= "
+        f"{DISTANCE_FLOOR:g} (e.g. (1, 0, 0) none, (0, 0, 1) inverse square)"
+    )
+    if c < 0 or (c == 0 and b < 0):
+        raise InvalidValue(where, value, allowed)  # negative at large d
+    # smallest value on [DISTANCE_FLOOR, inf): at the floor, or at the vertex -b / 2c
+    d = DISTANCE_FLOOR if c == 0 else max(DISTANCE_FLOOR, -b / (2 * c))
+    if not a + b * d + c * d * d > 0:
+        raise InvalidValue(where, value, allowed)
+    return (a, b, c)
+
+
+@dataclass(frozen=True)
+class Material:
+    """Surface reflectance of the Phong model.
+
+    Parameters
+    ----------
+    ka, kd, ks : float or RGB triple
+        Ambient, diffuse and specular reflection coefficients, each >= 0; a
+        scalar means the same value in every channel.
+    shininess : float
+        The specular exponent α >= 0.
+    emission : float or RGB triple, default 0
+        Light the surface emits, ``k_e``.
+    opacity : float in [0, 1], default 1
+        Carried for rendering; the lighting does not use it.
+
+    Notes
+    -----
+    .. math:: I = k_e + k_a \\circ I_a + \\sum_l f_l \\left[k_d \\circ I_{d,l}
+              \\max(0, n\\cdot l) + k_s \\circ I_{s,l} \\max(0, r\\cdot v)^{\\alpha}\\right]
+
+    ``∘`` multiplies per RGB channel.
+    """
+
+    ka: RGB
+    kd: RGB
+    ks: RGB
+    shininess: float
+    emission: RGB = (0.0, 0.0, 0.0)
+    opacity: float = 1.0
+
+    def __post_init__(self):
+        for name in ("ka", "kd", "ks", "emission"):
+            object.__setattr__(self, name, _rgb(f"Material.{name}", getattr(self, name)))
+        object.__setattr__(self, "shininess", _number("Material.shininess", self.shininess))
+        opacity = _number("Material.opacity", self.opacity, allowed="a number in [0, 1]")
+        if opacity > 1:
+            raise InvalidValue("Material.opacity", self.opacity, "must be a number in [0, 1]")
+        object.__setattr__(self, "opacity", opacity)
+
+
+@dataclass(frozen=True)
+class Light:
+    """Base of all lights: a colour scaled by an intensity.
+
+    ``diffuse`` and ``specular``, when given, replace ``color`` for that term,
+    so a light can have separate diffuse and specular intensities. The
+    effective intensities are ``I_d = intensity · (diffuse or color)`` and
+    ``I_s = intensity · (specular or color)``.
+    """
+
+    color: RGB = (1.0, 1.0, 1.0)
+    intensity: float = 1.0
+    diffuse: RGB | None = None
+    specular: RGB | None = None
+
+    def _validate_common(self):
+        kind = type(self).__name__
+        object.__setattr__(self, "color", _rgb(f"{kind}.color", self.color))
+        object.__setattr__(self, "intensity", _number(f"{kind}.intensity", self.intensity))
+        for name in ("diffuse", "specular"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, _rgb(f"{kind}.{name}", getattr(self, name)))
+
+    def __post_init__(self):
+        self._validate_common()
+
+    @property
+    def diffuse_rgb(self) -> RGB:
+        """``I_d``: the intensity times the diffuse colour."""
+        base = self.color if self.diffuse is None else self.diffuse
+        return tuple(self.intensity * c for c in base)  # type: ignore[return-value]
+
+    @property
+    def specular_rgb(self) -> RGB:
+        """``I_s``: the intensity times the specular colour."""
+        base = self.color if self.specular is None else self.specular
+        return tuple(self.intensity * c for c in base)  # type: ignore[return-value]
+
+    @property
+    def ambient_rgb(self) -> RGB:
+        return tuple(self.intensity * c for c in self.color)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class AmbientLight(Light):
+    """Light arriving equally from everywhere: contributes ``k_a ∘ I_a``."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class PointLight(Light):
+    """A light at ``position`` shining in every direction.
+
+    Notes
+    -----
+    .. math:: f = \\frac{1}{a + b\\,d + c\\,d^2}, \\quad d = \\max(|p_{light} - p|, 10^{-6})
+
+    The coefficients must keep the denominator positive at every distance;
+    the factor is capped at ``ATTENUATION_MAX`` = 1e12, so a light sitting on
+    the surface stays finite.
+    """
+
+    position: Vec3
+    attenuation: Vec3 = (1.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        self._validate_common()
+        kind = type(self).__name__
+        object.__setattr__(self, "position", _vec3(f"{kind}.position", self.position))
+        object.__setattr__(self, "attenuation", _attenuation(f"{kind}.attenuation", self.attenuation))
+
+
+@dataclass(frozen=True, kw_only=True)
+class DirectionalLight(Light):
+    """A light infinitely far away; ``direction`` points *towards* the light."""
+
+    direction: Vec3
+
+    def __post_init__(self):
+        self._validate_common()
+        object.__setattr__(
+            self, "direction", _vec3("DirectionalLight.direction", self.direction, nonzero=True)
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class SpotLight(PointLight):
+    """A point light restricted to a cone around ``direction``.
+
+    Parameters
+    ----------
+    direction : 3 floats
+        The cone's axis, from the light outwards.
+    cutoff : float
+        Half-angle of the cone in degrees, in (0, 90], or exactly 180 for a
+        plain point light.
+    exponent : float
+        Fall-off towards the rim, >= 0.
+
+    Notes
+    -----
+    With ``s`` the unit axis and ``-l`` the direction from the light to the point,
+
+    .. math:: f_{spot} = \\begin{cases} \\max(0, -l\\cdot s)^{e} & -l\\cdot s \\ge \\cos(\\mathrm{cutoff}) \\\\
+              0 & \\text{otherwise} \\end{cases}
+
+    A point exactly on the cone counts as inside (the ``>=`` test has a few
+    ulps of slack). ``cutoff = 180`` makes the factor 1 everywhere, even
+    straight behind the light.
+    """
+
+    direction: Vec3
+    cutoff: float = 30.0
+    exponent: float = 0.0
+
+    def __post_init__(self):
+        super().__post_init__()
+        object.__setattr__(self, "direction", _vec3("SpotLight.direction", self.direction, nonzero=True))
+        allowed = "must be a half-angle in degrees in (0, 90], or 180 for a plain point light"
+        cutoff = _number("SpotLight.cutoff", self.cutoff, minimum=None, allowed=allowed[8:])
+        if not (0 < cutoff <= 90 or cutoff == 180):
+            raise InvalidValue("SpotLight.cutoff", self.cutoff, allowed)
+        object.__setattr__(self, "cutoff", cutoff)
+        object.__setattr__(self, "exponent", _number("SpotLight.exponent", self.exponent))
+
+    @property
+    def is_cone(self) -> bool:
+        """False for cutoff 180, which is a plain point light."""
+        return self.cutoff != 180
+
+
+def light_from_homogeneous(position, **kwargs) -> PointLight | DirectionalLight:
+    """A light from a homogeneous position ``(x, y, z, w)``.
+
+    ``w = 1`` gives a :class:`PointLight` at ``(x, y, z)``; ``w = 0`` a
+    :class:`DirectionalLight` towards ``(x, y, z)``. Any other ``w > 0`` is a
+    point light at ``(x, y, z) / w``. Further keyword arguments go to the light.
+
+    Examples
+    --------
+    >>> light_from_homogeneous((0, 0, 1, 0)).direction
+    (0.0, 0.0, 1.0)
+    """
+    allowed = "must be (x, y, z, w) with finite numbers and w >= 0 (w = 0 directional)"
+    try:
+        items = [float(x) for x in position]
+    except (TypeError, ValueError):
+        raise InvalidValue("light.homogeneous", position, allowed) from None
+    if len(items) != 4 or not all(math.isfinite(x) for x in items) or items[3] < 0:
+        raise InvalidValue("light.homogeneous", position, allowed)
+    x, y, z, w = items
+    if w == 0:
+        return DirectionalLight(direction=(x, y, z), **kwargs)
+    return PointLight(position=(x / w, y / w, z / w), **kwargs)
+
+
+def light_fields(light: Light) -> dict:
+    """The light's fields as a dict (for display and serialisation)."""
+    return {f.name: getattr(light, f.name) for f in fields(light)}

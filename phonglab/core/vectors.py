@@ -1,0 +1,232 @@
+"""Vector kernels of the Phong model, written for numerical safety.
+
+Convention: every direction is a unit vector pointing *away from the surface
+point* — ``l`` towards the light, ``v`` towards the eye, ``n`` the outward
+normal, ``r`` the mirror image of ``l`` about ``n``, ``h`` halfway between
+``l`` and ``v``.
+
+Public functions take ``(..., 3)`` arrays and broadcast over the leading axes.
+Internally the shading loop keeps components first, ``(3, n)``, so each
+component is a contiguous row; the ``*_c`` functions work on that layout and
+the public ones are thin wrappers over them, so both share one arithmetic.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["normalize", "dot", "reflect", "one_minus_cos", "cos_power", "working_dtype"]
+
+
+def working_dtype(*arrays) -> np.dtype:
+    """The float dtype shading runs in: float32 if every input is float32, else float64.
+
+    Integer and float64 inputs compute in float64; float16 is promoted to float32.
+    """
+    return np.result_type(*[np.asarray(a).dtype for a in arrays], np.float32)
+
+
+def _fast_range(dtype):
+    """Sums of squares inside this open interval need no rescaling.
+
+    Below ``tiny / eps`` the squares of the components may have lost bits to
+    gradual underflow; at ``max`` they have overflowed.
+    """
+    info = np.finfo(dtype)
+    return info.tiny / info.eps, info.max
+
+
+# ---------------------------------------------------------------------------
+# components-first kernels: arrays of shape (3, ...)
+
+
+def dot_c(a, b):
+    """``a·b`` for components-first arrays ``(3, ...)``."""
+    out = a[0] * b[0]
+    out += a[1] * b[1]
+    out += a[2] * b[2]
+    return out
+
+
+def normalize_c(v, *, out=None):
+    """Unit vectors and lengths of components-first vectors ``(3, ...)``.
+
+    Returns ``(unit, length)``. Zero vectors give a zero unit vector and length 0.
+    When every sum of squares is safely inside the float range the direct
+    formula is used; otherwise the whole block is rescaled by its largest
+    component first, so 1e±20 (float32), 1e±160 (float64) and subnormal
+    vectors normalise to full precision.
+    """
+    v = np.asarray(v)
+    x, y, z = v[0], v[1], v[2]
+    ss = x * x
+    ss += y * y
+    ss += z * z
+    lo, hi = _fast_range(v.dtype)
+    if ss.size == 0 or (ss.min() > lo and ss.max() < hi):
+        # direct: |v| = sqrt(x² + y² + z²)
+        length = np.sqrt(ss, out=ss)
+        inv = np.reciprocal(length)
+        return np.multiply(v, inv, out=out), length
+    return _normalize_scaled_c(v, out=out)
+
+
+def _normalize_scaled_c(v, *, out=None):
+    # scale by the largest |component| so the sum of squares lies in [1, 3]
+    m = np.maximum(np.maximum(np.abs(v[0]), np.abs(v[1])), np.abs(v[2]))
+    zero = m == 0
+    m_safe = np.where(zero, np.ones((), v.dtype), m)
+    u = v / m_safe
+    s = np.sqrt(dot_c(u, u))
+    # zero-length guard: a zero vector stays zero, never 0/0
+    inv = np.where(zero, np.zeros((), v.dtype), np.reciprocal(np.where(zero, np.ones((), v.dtype), s)))
+    with np.errstate(over="ignore"):
+        length = m * s  # may overflow to inf only for vectors near the float maximum
+    return np.multiply(u, inv, out=out), length
+
+
+def reflect_c(l, n, nl=None):
+    """``r = 2(n·l)n − l`` for components-first arrays."""
+    if nl is None:
+        nl = dot_c(n, l)
+    return (2 * nl) * n - l
+
+
+def one_minus_cos_c(a, b):
+    """``1 − a·b`` for unit vectors, as ``|a − b|² / 2``.
+
+    The direct ``1 − a·b`` loses every digit when the vectors are nearly
+    parallel; the half squared distance keeps full relative precision there,
+    which is where a large shininess looks.
+    """
+    d = a - b
+    return dot_c(d, d) * d.dtype.type(0.5)
+
+
+def cos_power(d, lit, shininess):
+    """``max(0, cos)^α`` from ``d = 1 − cos``, zero where ``lit`` is False.
+
+    Parameters
+    ----------
+    d : ndarray
+        ``1 − cos`` of the angle, from :func:`one_minus_cos`; clamped to [0, 1],
+        i.e. ``cos`` clamped to [0, 1] before the power.
+    lit : ndarray of bool
+        Where the term applies (``n·l > 0`` and ``cos > 0``); exactly 0 elsewhere.
+    shininess : float
+        The exponent α ≥ 0.
+
+    Notes
+    -----
+    .. math:: \\max(0, \\cos)^{\\alpha} = \\exp(\\alpha \\, \\mathrm{log1p}(-d))
+
+    ``log1p`` keeps the relative precision of tiny ``d``, so α = 10⁶ near the
+    highlight is as accurate as α = 10. α = 0 gives 1 wherever ``lit`` (the
+    convention 0⁰ = 1); the ``lit`` gate still makes the term exactly 0 on the
+    unlit side, so no α lights the back of a surface.
+    """
+    dtype = np.asarray(d).dtype
+    if shininess == 0:
+        return lit.astype(dtype)
+    d = np.minimum(d, dtype.type(1))
+    with np.errstate(divide="ignore"):
+        t = np.log1p(-d)  # -inf at d = 1: exp gives exactly 0
+    t *= dtype.type(shininess)
+    np.exp(t, out=t)
+    t *= lit
+    return t
+
+
+# ---------------------------------------------------------------------------
+# public (..., 3) wrappers
+
+
+def _c(a):
+    return np.moveaxis(np.asarray(a), -1, 0)
+
+
+def _check3(name, a):
+    a = np.asarray(a)
+    if a.ndim == 0 or a.shape[-1] != 3:
+        raise ValueError(f"{name}: must be an array of shape (..., 3), got shape {a.shape}")
+    if not np.issubdtype(a.dtype, np.floating):
+        a = a.astype(np.float64)
+    return a
+
+
+def normalize(v, *, return_length=False):
+    """Unit vectors along ``v``.
+
+    Parameters
+    ----------
+    v : array_like, shape (..., 3)
+    return_length : bool, keyword-only
+        Also return ``|v|``, shape ``(...)``.
+
+    Returns
+    -------
+    unit : ndarray, shape (..., 3), same float dtype as ``v``
+    length : ndarray, shape (...), only if ``return_length``
+
+    Notes
+    -----
+    .. math:: \\hat v = v / |v|, \\qquad \\hat 0 = 0
+
+    Guard: a zero vector normalises to the zero vector (it then contributes no
+    light), never NaN. Vectors too long or too short for ``x² + y² + z²`` in
+    the working precision are rescaled by their largest component first.
+
+    Examples
+    --------
+    >>> normalize([3.0, 0.0, 4.0])
+    array([0.6, 0. , 0.8])
+    """
+    v = _check3("v", v)
+    unit, length = normalize_c(_c(v).copy())
+    unit = np.moveaxis(unit, 0, -1)
+    return (unit, length) if return_length else unit
+
+
+def dot(a, b):
+    """``a·b`` over the last axis of two ``(..., 3)`` arrays.
+
+    Examples
+    --------
+    >>> float(dot([1.0, 2.0, 3.0], [4.0, 5.0, 6.0]))
+    32.0
+    """
+    a, b = np.broadcast_arrays(_check3("a", a), _check3("b", b))
+    return dot_c(_c(a), _c(b))
+
+
+def reflect(l, n):
+    """Mirror ``l`` about the unit normal ``n``: ``r = 2(n·l)n − l``.
+
+    Both point away from the surface; for unit ``l`` and ``n``, ``|r| = 1`` and
+    reflecting twice gives ``l`` back.
+
+    Notes
+    -----
+    .. math:: r = 2 (n \\cdot l)\\, n - l
+
+    Examples
+    --------
+    >>> reflect([1.0, 0.0, 1.0], [0.0, 0.0, 1.0])
+    array([-1.,  0.,  1.])
+    """
+    l, n = np.broadcast_arrays(_check3("l", l), _check3("n", n))
+    return np.moveaxis(reflect_c(_c(l), _c(n)), 0, -1)
+
+
+def one_minus_cos(a, b):
+    """``1 − a·b`` for unit vectors ``a``, ``b``, computed as ``|a − b|²/2``.
+
+    Notes
+    -----
+    .. math:: 1 - a \\cdot b = \\tfrac12 |a - b|^2 \\quad (|a| = |b| = 1)
+
+    Exact in relative terms for nearly parallel vectors, where ``1 − a·b``
+    cancels catastrophically.
+    """
+    a, b = np.broadcast_arrays(_check3("a", a), _check3("b", b))
+    return one_minus_cos_c(_c(a), _c(b))
