@@ -1,0 +1,269 @@
+"""Field paths: read and replace one field of a scene by its name.
+
+A field path names a value as a scene file writes it: ``model``,
+``material.ks``, ``lights[1].position``, ``lights[1].position[2]``,
+``camera.eye``, ``geometry.resolution``. The web app's state keys and the
+command line's ``--set PATH=VALUE`` use these paths.
+
+:func:`replace_field` works on the scene's file form: it turns the scene
+into the dictionary a TOML file would give, sets the value, and checks the
+result exactly as a file is checked, so a value refused in a file is refused
+here with the same message.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+
+from phonglab.scene.loader import (
+    CAMERA_KEYS,
+    GEOMETRY_KEYS,
+    LIGHT_KEYS,
+    MATERIAL_KEYS,
+    SCENE_KEYS,
+    light_type,
+    scene_from_dict,
+)
+from phonglab.scene.model import Scene, SceneError, did_you_mean
+
+_SEGMENT = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)")
+_INDEX = re.compile(r"\[(\d+)\]")
+_PATH_RULE = "must be a field path such as material.ks, lights[1].position or camera.eye"
+
+#: light types whose position may be given as homogeneous = [x, y, z, w]
+_HOMOGENEOUS_TYPES = ("point", "directional")
+
+
+def parse_path(path: str) -> list[str | int]:
+    """Split a field path into keys and indices.
+
+    Examples
+    --------
+    >>> parse_path("lights[1].position[2]")
+    ['lights', 1, 'position', 2]
+
+    Raises
+    ------
+    SceneError
+        When ``path`` is not of that form.
+    """
+    if not isinstance(path, str) or not path:
+        raise SceneError(_PATH_RULE, value=path)
+    parts: list[str | int] = []
+    for segment in path.split("."):
+        match = _SEGMENT.fullmatch(segment)
+        if not match:
+            raise SceneError(_PATH_RULE, value=path)
+        parts.append(match.group(1))
+        parts.extend(int(i) for i in _INDEX.findall(match.group(2)))
+    return parts
+
+
+def format_path(parts) -> str:
+    """The inverse of :func:`parse_path`."""
+    text = ""
+    for part in parts:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else part)
+    return text
+
+
+def _plain(value):
+    """Tuples and arrays as lists, recursively: the form tomllib gives."""
+    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
+        value = value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value
+
+
+def light_to_dict(light) -> dict:
+    """A core light as its ``[[lights]]`` table."""
+    kind = light_type(light)
+    table = {"type": kind}
+    for key in LIGHT_KEYS[kind]:
+        value = getattr(light, key)
+        if value is not None:
+            table[key] = _plain(value)
+    return table
+
+
+def scene_to_dict(scene: Scene) -> dict:
+    """The scene as the dictionary its TOML file would parse to."""
+    g = scene.geometry
+    geometry = {"kind": g.kind, "resolution": g.resolution}
+    if g.name is not None:
+        geometry["name"] = g.name
+    if g.path is not None:
+        geometry["path"] = g.path
+    m = scene.material
+    data = {
+        "title": scene.title,
+        "model": scene.model,
+        "interpolation": scene.interpolation,
+        "two_sided": scene.two_sided,
+        "geometry": geometry,
+        "material": {k: _plain(getattr(m, k)) for k in MATERIAL_KEYS},
+        "lights": [light_to_dict(light) for light in scene.lights],
+        "camera": {k: _plain(getattr(scene.camera, k)) for k in CAMERA_KEYS},
+    }
+    if scene.probe is not None:
+        data["probe"] = list(scene.probe)
+    return data
+
+
+def _keys_for(data: dict, parts: list) -> tuple[str, ...] | None:
+    """The keys allowed in the table at ``parts``; None when it is not a table of the format."""
+    if not parts:
+        return SCENE_KEYS
+    if parts == ["geometry"]:
+        return GEOMETRY_KEYS
+    if parts == ["material"]:
+        return MATERIAL_KEYS
+    if parts == ["camera"]:
+        return CAMERA_KEYS
+    if len(parts) == 2 and parts[0] == "lights":
+        kind = data["lights"][parts[1]]["type"]
+        extra = ("homogeneous",) if kind in _HOMOGENEOUS_TYPES else ()
+        return ("type",) + LIGHT_KEYS[kind] + extra
+    return None
+
+
+def _no_field(path, parts, i, keys, hint=None):
+    near = did_you_mean(parts[i], keys) if keys else None
+    listing = ("allowed here: " + ", ".join(keys)) if keys else None
+    hint = hint or (f"{near} ({listing})" if near else listing)
+    return SceneError("no such field", field=path, hint=hint)
+
+
+def _homogeneous_of(light: dict) -> list:
+    """The ``[x, y, z, w]`` form of a point or directional light table."""
+    if light["type"] == "point":
+        return list(light["position"]) + [1.0]
+    return list(light["direction"]) + [0.0]
+
+
+def _locate(data: dict, path: str, parts: list):
+    """Walk ``parts`` through ``data``; return (container, key) of the field, checked against the format."""
+    node = data
+    for i, part in enumerate(parts[:-1] + [parts[-1]]):
+        last = i == len(parts) - 1
+        if isinstance(part, str):
+            keys = _keys_for(data, parts[:i]) if isinstance(node, dict) else None
+            if not isinstance(node, dict) or keys is None or part not in keys:
+                return _fail(_no_field(path, parts, i, keys))
+            if part == "homogeneous" and not last:
+                node[part] = _homogeneous_of(node)  # index into [x, y, z, w]
+            if last:
+                return node, part
+            if part not in node:
+                if part in ("probe",) or part in ("diffuse", "specular", "name", "path"):
+                    return _fail(SceneError(f"is not set, so {format_path(parts[: i + 1])} has no parts", field=path))
+                return _fail(_no_field(path, parts, i, keys))
+            node = node[part]
+        else:
+            if not isinstance(node, list):
+                return _fail(SceneError(f"{format_path(parts[:i])} is not a list", field=path))
+            if part >= len(node):
+                what = "light" if parts[:i] == ["lights"] else "item"
+                count = f"{len(node)} {what}s" if len(node) != 1 else f"1 {what}"
+                rule = f"index must be below {len(node)}" if node else "the list is empty"
+                return _fail(SceneError(f"no such {what}: {rule} ({count})", field=path))
+            if last:
+                return node, part
+            node = node[part]
+    raise AssertionError("unreachable")
+
+
+def _fail(error: SceneError):
+    raise error
+
+
+def field_value(scene: Scene, path: str):
+    """The current value at ``path``, in file form (lists, not tuples).
+
+    Raises
+    ------
+    SceneError
+        When the path does not name a field of this scene.
+    """
+    parts = parse_path(path)
+    data = scene_to_dict(scene)
+    container, key = _locate(data, path, parts)
+    if isinstance(container, dict) and key not in container:
+        if key == "homogeneous":
+            return _homogeneous_of(container)
+        return None
+    return container[key]
+
+
+def replace_field(scene: Scene, path: str, value) -> Scene:
+    """A copy of ``scene`` with the field at ``path`` set to ``value`` (see :meth:`Scene.replace`).
+
+    ``None`` removes an optional field (``probe``, a light's ``diffuse``).
+    Setting ``lights[i].homogeneous`` (or one of its four entries) turns the
+    light into a point light (w > 0) or a directional one (w = 0); setting
+    ``lights[i].type`` keeps only the keys the new type has.
+
+    Raises
+    ------
+    SceneError
+        A bad path (naming the path and the fields allowed there) or a bad
+        value (naming the path, the value and what is allowed).
+    """
+    parts = parse_path(path)
+    data = scene_to_dict(scene)
+    container, key = _locate(data, path, parts)
+    value = _plain(value)
+    if isinstance(container, list):
+        container[key] = value
+    elif value is None:
+        container.pop(key, None)
+    else:
+        container[key] = value
+    # a light table that changed form
+    if len(parts) >= 3 and parts[0] == "lights" and parts[2] == "homogeneous":
+        light = data["lights"][parts[1]]
+        for stale in ("type", "position", "direction"):
+            light.pop(stale, None)
+        hom = light.get("homogeneous")
+        if isinstance(hom, list) and len(hom) == 4 and hom[3] == 0:
+            light.pop("attenuation", None)  # a directional light has no distance
+    elif len(parts) == 3 and parts[0] == "lights" and parts[2] == "type" and value in LIGHT_KEYS:
+        light = data["lights"][parts[1]]
+        for stale in [k for k in light if k != "type" and k not in LIGHT_KEYS[value]]:
+            del light[stale]
+    base_dir = Path(scene.source).resolve().parent if scene.source else None
+    return scene_from_dict(data, source=scene.source, base_dir=base_dir)
+
+
+def parse_value(text: str):
+    """A value written as in TOML (``100``, ``[1, 2, 3]``, ``true``, ``"phong"``); bare words are strings."""
+    try:
+        return tomllib.loads(f"value = {text}")["value"]
+    except tomllib.TOMLDecodeError:
+        return text.strip()
+
+
+def parse_setting(text: str) -> tuple[str, object]:
+    """Split ``PATH=VALUE`` (as given to ``--set``) into the path and the parsed value.
+
+    Examples
+    --------
+    >>> parse_setting("material.shininess=100")
+    ('material.shininess', 100)
+
+    Raises
+    ------
+    SceneError
+        When there is no ``=`` or the path is malformed.
+    """
+    if "=" not in text:
+        raise SceneError("must be PATH=VALUE, e.g. material.shininess=100", value=text)
+    path, _, raw = text.partition("=")
+    path = path.strip()
+    parse_path(path)
+    return path, parse_value(raw.strip())
