@@ -82,12 +82,14 @@ def _rgb(where: str, value) -> RGB:
         x = _number(where, value, allowed=allowed[8:])
         return (x, x, x)
     try:
+        if isinstance(value, (str, bytes)):
+            raise TypeError
         items = list(value)
-    except TypeError:
+        if len(items) != 3:
+            raise TypeError
+        return tuple(_number(where, x) for x in items)  # type: ignore[return-value]
+    except (TypeError, InvalidValue):
         raise InvalidValue(where, value, allowed) from None
-    if len(items) != 3:
-        raise InvalidValue(where, value, allowed)
-    return tuple(_number(where, x, allowed=allowed[8:]) for x in items)  # type: ignore[return-value]
 
 
 def _vec3(where: str, value, *, nonzero: bool = False) -> Vec3:
@@ -117,11 +119,14 @@ def _vec3(where: str, value, *, nonzero: bool = False) -> Vec3:
 
 def _attenuation(where: str, value) -> Vec3:
     """Coefficients (a, b, c) with a + b d + c d² > 0 for every d >= DISTANCE_FLOOR."""
-    a, b, c = _vec3(where, value)
     allowed = (
         "must be (a, b, c) with a + b·d + c·d² > 0 at every distance d >= "
         f"{DISTANCE_FLOOR:g} (e.g. (1, 0, 0) none, (0, 0, 1) inverse square)"
     )
+    try:
+        a, b, c = _vec3(where, value)
+    except InvalidValue:
+        raise InvalidValue(where, value, allowed) from None
     if c < 0 or (c == 0 and b < 0):
         raise InvalidValue(where, value, allowed)  # negative at large d
     # smallest value on [DISTANCE_FLOOR, inf): at the floor, or at the vertex -b / 2c

@@ -427,8 +427,7 @@ class _Constants:
         self.eye = None if eye is None else np.asarray(eye, dtype)[:, None]
         self.view = None
         if view_direction is not None:
-            v = np.asarray(view_direction, dtype)[:, None]
-            self.view = v if not plan.constant_view else normalize_c(v)[0]
+            self.view = _unit(view_direction, dtype)
         kd, ks = np.asarray(material.kd), np.asarray(material.ks)
         self.lights = []
         for lp in plan.lights:
@@ -437,8 +436,7 @@ class _Constants:
             item["kd_id"] = (kd * np.asarray(lt.diffuse_rgb)).astype(dtype)[:, None] if plan.diffuse else None
             item["ks_is"] = (ks * np.asarray(lt.specular_rgb)).astype(dtype)[:, None] if plan.specular else None
             if isinstance(lt, DirectionalLight):
-                d = np.asarray(lt.direction, dtype)[:, None]
-                item["l"] = normalize_c(d)[0] if lp.constant_l else d
+                item["l"] = _unit(lt.direction, dtype)
                 item["h"] = None
                 if plan.constant_view and lp.constant_l:
                     item["h"] = normalize_c(item["l"] + self.view)[0]
@@ -447,12 +445,20 @@ class _Constants:
                 a, b, c = lt.attenuation
                 item["attenuation"] = (dt(a), dt(b), dt(c))
             if lp.spot:
-                axis = normalize_c(np.asarray(lt.direction, np.float64)[:, None])[0]
-                item["axis"] = axis.astype(dtype)
+                item["axis"] = _unit(lt.direction, dtype)
                 # cone test with a few ulps of slack: a point on the cone counts as inside
                 item["cos_cutoff"] = dt(math.cos(math.radians(lt.cutoff)) - SPOT_SLACK_ULPS * np.finfo(dtype).eps)
                 item["exponent"] = dt(lt.exponent)
             self.lights.append(item)
+
+
+def _unit(direction, dtype):
+    """A light's or viewer's fixed direction as a (3, 1) unit vector.
+
+    Normalised in float64 before the cast, so a direction like (0, 0, 1e-148)
+    does not underflow to zero in float32.
+    """
+    return normalize_c(np.asarray(direction, np.float64)[:, None])[0].astype(dtype)
 
 
 def _attenuation_factor(dist, coeffs, dtype):
@@ -481,8 +487,8 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out,
         v, _ = normalize_c(const.eye - p)
     elif plan.constant_view:
         v = const.view
-    else:
-        v, _ = normalize_c(np.broadcast_to(const.view, p.shape).copy())
+    else:  # the full evaluation keeps a per-point copy
+        v = np.broadcast_to(const.view, p.shape).copy()
 
     # two-sided: negate normals facing away from the eye
     if plan.two_sided:
@@ -494,7 +500,7 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out,
         lp = item["plan"]
         # direction to the light, and its distance for attenuation
         if "l" in item:
-            l = item["l"] if lp.constant_l else normalize_c(np.broadcast_to(item["l"], p.shape).copy())[0]
+            l = item["l"] if lp.constant_l else np.broadcast_to(item["l"], p.shape).copy()
             dist = None
         else:
             l, dist = normalize_c(item["position"] - p)

@@ -65,7 +65,7 @@ def normalize_c(v, *, out=None):
     lo, hi = _fast_range(v.dtype)
     if ss.size == 0 or (ss.min() > lo and ss.max() < hi):
         # direct: |v| = sqrt(x² + y² + z²)
-        length = np.sqrt(ss, out=ss)
+        length = np.sqrt(ss, out=ss if isinstance(ss, np.ndarray) else None)
         inv = np.reciprocal(length)
         return np.multiply(v, inv, out=out), length
     return _normalize_scaled_c(v, out=out)
@@ -126,12 +126,14 @@ def cos_power(d, lit, shininess):
     unlit side, so no α lights the back of a surface.
     """
     dtype = np.asarray(d).dtype
-    if shininess == 0:
+    # α in the working precision, kept finite: 0·(−inf) or inf·0 would be NaN
+    alpha = dtype.type(min(float(shininess), float(np.finfo(dtype).max)))
+    if alpha == 0:  # α = 0, or so small it rounds to 0: x⁰ = 1 wherever lit
         return lit.astype(dtype)
     d = np.minimum(d, dtype.type(1))
     with np.errstate(divide="ignore"):
         t = np.log1p(-d)  # -inf at d = 1: exp gives exactly 0
-    t *= dtype.type(shininess)
+    t *= alpha
     np.exp(t, out=t)
     t *= lit
     return t
