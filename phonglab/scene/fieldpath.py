@@ -61,6 +61,32 @@ def parse_path(path: str) -> list[str | int]:
     return parts
 
 
+def check_path_shape(path: str) -> list[str | int]:
+    """Check a field path against the file format alone, without a scene.
+
+    Used where the scene itself could not be built: table names and keys are
+    checked, light indices and light types are not.
+
+    Raises
+    ------
+    SceneError
+        When the path is malformed or names no field of any scene.
+    """
+    parts = parse_path(path)
+    tables = {"geometry": GEOMETRY_KEYS, "material": MATERIAL_KEYS, "camera": CAMERA_KEYS}
+    light_keys = ("type", "homogeneous") + tuple(dict.fromkeys(k for keys in LIGHT_KEYS.values() for k in keys))
+    if parts[0] not in SCENE_KEYS:
+        raise _no_field(path, parts, 0, SCENE_KEYS)
+    if parts[0] in tables and len(parts) > 1 and parts[1] not in tables[parts[0]]:
+        raise _no_field(path, parts, 1, tables[parts[0]])
+    if parts[0] == "lights" and len(parts) > 1:
+        if not isinstance(parts[1], int):
+            raise SceneError("must index a light, as in lights[1].position", field=path)
+        if len(parts) > 2 and parts[2] not in light_keys:
+            raise _no_field(path, parts, 2, light_keys)
+    return parts
+
+
 def format_path(parts) -> str:
     """The inverse of :func:`parse_path`."""
     text = ""

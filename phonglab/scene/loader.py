@@ -502,7 +502,7 @@ def load_lesson(path) -> Lesson:
     SceneErrors
         Every problem in the file, located.
     """
-    from phonglab.scene.fieldpath import field_value, parse_path
+    from phonglab.scene.fieldpath import check_path_shape, field_value
 
     shown = _display(path)
     text = _read_text(path, shown)
@@ -547,9 +547,10 @@ def load_lesson(path) -> Lesson:
         if problems.run(check_text, where, control) is None:
             continue
         try:
-            parse_path(control)
             if scene is not None:
                 field_value(scene, control)
+            else:
+                check_path_shape(control)
         except SceneError as exc:
             problems.add(SceneError(exc.problem, field=where, value=control, hint=exc.hint))
             continue
@@ -606,12 +607,15 @@ def _build_experiment(item, where: str, scene: Scene | None, problems: _Problems
     settings = _flatten(raw)
     ok = label is not None and text is not None
     # every setting must apply to the lesson's scene, in order
+    from phonglab.scene.fieldpath import check_path_shape
+
     trial = scene
     for path, value in settings:
-        if trial is None:
-            break
         try:
-            trial = trial.replace(path, value)
+            if trial is None:  # the scene is broken: check the path alone
+                check_path_shape(path)
+            else:
+                trial = trial.replace(path, value)
         except SceneError as exc:
             ok = False
             for error in exc.errors if isinstance(exc, SceneErrors) else [exc]:

@@ -69,8 +69,8 @@ def pyvista_mesh_path(name: str) -> Path:
 def resolve_mesh_path(path: str, base_dir: str | os.PathLike | None = None) -> str:
     """An absolute, existing mesh file for ``path``.
 
-    A relative path is looked up in ``base_dir`` (the scene file's folder),
-    then the current folder, then ``assets/`` and ``assets/meshes/``.
+    A relative path is looked up in ``base_dir`` (the scene file's folder;
+    the current folder when None), then in ``assets/``.
 
     Raises
     ------
@@ -90,8 +90,7 @@ def resolve_mesh_path(path: str, base_dir: str | os.PathLike | None = None) -> s
     if candidate.is_absolute():
         tried = [candidate]
     else:
-        folders = [Path(base_dir)] if base_dir is not None else []
-        folders += [Path.cwd(), ASSETS_DIR, ASSETS_DIR / "meshes"]
+        folders = [Path(base_dir) if base_dir is not None else Path.cwd(), ASSETS_DIR]
         tried = [folder / candidate for folder in folders]
     for option in tried:
         if option.is_file():
