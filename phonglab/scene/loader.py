@@ -390,16 +390,8 @@ def scene_from_dict(data: dict, *, source=None, base_dir=None) -> Scene:
 
 
 def _display(path) -> str:
-    """A file name for messages: as given, or relative to the current folder when inside it."""
-    text = os.fspath(path)
-    if os.path.isabs(text):
-        try:
-            rel = os.path.relpath(text)
-            if not rel.startswith(".."):
-                return rel
-        except ValueError:
-            pass
-    return text
+    """The file name for messages: as the caller gave it."""
+    return os.fspath(path)
 
 
 def _read_text(path, shown) -> str:
