@@ -233,3 +233,39 @@ def test_output_finite_for_extreme_finite_geometry(dtype):
         s = shade1(pts[0], nrm[0], lights, dtype, model=model, two_sided=True)
         full = pl.shade(pts, nrm, eye=(0, 0, 5), material=MAT, lights=lights, model=model)
         assert np.isfinite(s.color).all() and np.isfinite(full.color).all(), (dtype, model, full.color)
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+def test_log1p_neg_matches_mpmath_including_where_1_minus_d_rounds_to_1(dtype):
+    from phonglab.core.vectors import log1p_neg
+
+    eps = np.finfo(dtype).eps
+    d = np.concatenate([np.geomspace(1e-30, 1.0, 2000, endpoint=False), [eps / 4, eps / 2, eps, 0.5, 1 - eps]]).astype(dtype)
+    got = log1p_neg(d)
+    ref = np.array([float(mpmath.log1p(-mpmath.mpf(float(x)))) for x in d])
+    rel = np.abs(got - ref) / np.abs(ref)
+    worst = int(rel.argmax())
+    assert rel.max() <= 3 * eps, (dtype, float(d[worst]), float(got[worst]), ref[worst])
+    assert log1p_neg(np.array([1.0], dtype))[0] == -np.inf
+    assert log1p_neg(np.array([0.0], dtype))[0] == 0
+
+
+@pytest.mark.parametrize("alpha", [1e-300, 1e-50, 1e300])
+def test_shininess_outside_float32_range_gives_no_nan(alpha):
+    # 1e-300 rounds to 0 and 1e300 to inf in float32: neither may turn 0·inf into NaN
+    mat = pl.Material(ka=0, kd=0, ks=1, shininess=alpha)
+    rng = np.random.default_rng(3)
+    p, n = rng.normal(size=(200, 3)).astype(F32), rng.normal(size=(200, 3)).astype(F32)
+    s = pl.shade(p, n, eye=(0, 0, 6), material=mat, lights=[pl.PointLight(position=(1, 2, 3))])
+    assert np.isfinite(s.color).all() and (s.specular >= 0).all(), alpha
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize("model", pl.MODELS)
+def test_eye_exactly_on_the_shaded_point_gives_no_specular(dtype, model):
+    # v = 0 there; the other point is shaded normally
+    pts = np.array([[0, 0, 0], [0.5, 0, 0]], dtype)
+    s = pl.shade(pts, np.array([[0, 0, 1]] * 2, dtype), eye=(0, 0, 0), model=model,
+                 material=pl.Material(ka=0, kd=1, ks=1, shininess=1), lights=[pl.PointLight(position=(0, 0, 3))])
+    assert np.isfinite(s.color).all()
+    assert (s.specular[0] == 0).all() and s.diffuse[0, 0] == pytest.approx(1.0), (dtype, model, s.specular)

@@ -346,8 +346,9 @@ def shade(
     - specular is exactly 0 where ``n·l ≤ 0``, at every α including 0;
     - ``c_l`` is clamped to [0, 1] and computed as ``1 − |a − b|²/2``, the
       power as ``exp(α·log1p(−d))``, accurate at α = 10⁶;
-    - a zero-length ``n``, ``l``, ``v`` or ``h`` (e.g. a light on the point,
-      ``l = −v``) contributes no diffuse or specular light;
+    - a zero-length ``n`` or ``l`` (e.g. a light on the point) contributes no
+      diffuse or specular light; a zero ``v`` (the eye on the point) or ``h``
+      (``l = −v``) no specular light;
     - attenuation uses ``max(d, 1e-6)`` and is capped at 1e12.
 
     Examples
@@ -555,6 +556,8 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
             lit &= d < 1
             if b_zero:  # a zero v or h gives d = 1/2: gate it out explicitly
                 lit &= dot_c(b, b) > zero
+            if v_zero and model != "phong":  # h = l where v = 0: still no viewer
+                lit &= v_len > zero
             t = cos_power(d, lit, const.shininess)
             if f is not None:
                 t *= f
