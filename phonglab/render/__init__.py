@@ -1,1 +1,17 @@
-"""phonglab.render"""
+"""phonglab.render: PyVista/VTK rendering of scenes lit by the core, and figures.
+
+The only layer that touches VTK. VTK rasterizes and displays; every colour
+comes from :mod:`phonglab.core` (through :func:`phonglab.scene.shade`) and
+reaches VTK as uint8 RGB scalars on actors with lighting off.
+
+* :func:`build_mesh` — the triangle mesh of a scene's geometry, with normals.
+* :class:`SceneView` — a render window with the shaded mesh, the vectors
+  N, L, R, V, H at the probe and markers for the lights and the eye.
+* :func:`figure` — PNG/SVG/PDF figures: renders, per-term views, sweeps, plots.
+"""
+
+from phonglab.render.figure import FigureError, figure, render
+from phonglab.render.mesh import build_mesh
+from phonglab.render.view import SceneView
+
+__all__ = ["FigureError", "SceneView", "build_mesh", "figure", "render"]

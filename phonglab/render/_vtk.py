@@ -1,0 +1,95 @@
+"""Small VTK helpers shared by the render modules: offscreen windows, buffers.
+
+Nothing here knows about scenes; it only hides the VTK plumbing that every
+module would otherwise repeat.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import vtk
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+
+def quiet_vtk_warnings() -> None:
+    """Send VTK's own warnings to nowhere (errors still reach stderr).
+
+    Without a display, VTK first tries X and logs "bad X server connection"
+    before it falls back to EGL; that line would clutter every export.
+    """
+    vtk.vtkLogger.SetStderrVerbosity(vtk.vtkLogger.VERBOSITY_ERROR)
+    vtk.vtkObject.GlobalWarningDisplayOff()
+
+
+def make_render_window(size: tuple[int, int], *, offscreen: bool = True) -> vtk.vtkRenderWindow:
+    """A render window of ``size`` = (width, height) pixels, offscreen by default.
+
+    Without a ``DISPLAY`` the EGL window class is used directly (no X probe).
+    Multisampling is off: figures are antialiased by supersampling, and the
+    G-buffer needs exact, unblended values.
+    """
+    quiet_vtk_warnings()
+    window = None
+    if offscreen and not os.environ.get("DISPLAY"):
+        try:
+            from vtkmodules.vtkRenderingOpenGL2 import vtkEGLRenderWindow
+
+            window = vtkEGLRenderWindow()
+        except ImportError:  # pragma: no cover - VTK built without EGL
+            window = None
+    if window is None:
+        window = vtk.vtkRenderWindow()
+    window.SetOffScreenRendering(1 if offscreen else 0)
+    window.SetMultiSamples(0)
+    window.SetSize(int(size[0]), int(size[1]))
+    return window
+
+
+def read_rgb(window: vtk.vtkRenderWindow) -> np.ndarray:
+    """The window's colour buffer as a (height, width, 3) uint8 array, top row first."""
+    width, height = window.GetSize()
+    grab = vtk.vtkUnsignedCharArray()
+    window.GetRGBACharPixelData(0, 0, width - 1, height - 1, 0, grab)
+    rgba = vtk_to_numpy(grab).reshape(height, width, 4)
+    return np.ascontiguousarray(rgba[::-1, :, :3])
+
+
+def read_depth(window: vtk.vtkRenderWindow) -> np.ndarray:
+    """The window's depth buffer as a (height, width) float32 array in [0, 1], top row first."""
+    width, height = window.GetSize()
+    grab = vtk.vtkFloatArray()
+    window.GetZbufferData(0, 0, width - 1, height - 1, grab)
+    return np.ascontiguousarray(vtk_to_numpy(grab).reshape(height, width)[::-1])
+
+
+def set_camera(camera: vtk.vtkCamera, scene_camera) -> None:
+    """Copy a scene :class:`~phonglab.scene.Camera` into a VTK camera."""
+    camera.SetPosition(*scene_camera.eye)
+    camera.SetFocalPoint(*scene_camera.focal_point)
+    camera.SetViewUp(*scene_camera.up)
+    camera.SetViewAngle(scene_camera.view_angle)
+    camera.OrthogonalizeViewUp()
+
+
+def eye_distance(camera: vtk.vtkCamera, depth: np.ndarray) -> np.ndarray:
+    """Distance along the view axis for depth-buffer values of a perspective camera.
+
+    Parameters
+    ----------
+    camera : vtkCamera
+        The camera the depth buffer was rendered with (its clipping range).
+    depth : ndarray
+        Depth-buffer values in [0, 1]; 1 means nothing was drawn.
+
+    Returns
+    -------
+    ndarray
+        Camera-space distance :math:`z_e = 2nf / ((f + n) - z_{ndc}(f - n))`
+        with :math:`z_{ndc} = 2d - 1`; ``inf`` where nothing was drawn.
+    """
+    near, far = camera.GetClippingRange()
+    z_ndc = 2.0 * depth.astype(np.float64) - 1.0
+    dist = 2.0 * near * far / ((far + near) - z_ndc * (far - near))
+    return np.where(depth >= 1.0, np.inf, dist)

@@ -1,0 +1,126 @@
+"""Per-pixel shading: a G-buffer rendered by VTK, shaded by the core.
+
+VTK rasterizes the mesh with a ``vtkValuePass`` in floating-point mode: each
+pass writes one component of a point array, interpolated across every
+triangle, into a 32-bit float image (pixels the mesh does not cover hold NaN).
+Six passes give the interpolated world position and normal of the surface
+seen through every pixel; the core then shades each covered pixel with the
+normal renormalised, which is Phong *shading* (as opposed to Gouraud's
+interpolated colours).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pyvista as pv
+import vtk
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+from phonglab.render._vtk import make_render_window
+
+#: name of the 6-component point array (normal xyz, position xyz) drawn by the value pass
+GBUFFER_ARRAY = "phonglab_gbuffer"
+
+
+@dataclass(frozen=True)
+class GBuffer:
+    """What the camera sees through each pixel, top row first.
+
+    Attributes
+    ----------
+    positions : ndarray, shape (height, width, 3), float32
+        World position of the visible surface (NaN where uncovered).
+    normals : ndarray, shape (height, width, 3), float32
+        Unit normal, interpolated from the point normals (NaN where uncovered).
+    mask : ndarray, shape (height, width), bool
+        True where the mesh covers the pixel.
+    """
+
+    positions: np.ndarray
+    normals: np.ndarray
+    mask: np.ndarray
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(height, width)."""
+        return self.mask.shape
+
+
+class GBufferRenderer:
+    """Renders G-buffers of meshes in its own offscreen window.
+
+    The window is kept between calls, so a sequence of frames (a slider
+    moving, a sweep) reuses one OpenGL context.
+    """
+
+    def __init__(self):
+        self._window = make_render_window((64, 64), offscreen=True)
+        self._renderer = vtk.vtkRenderer()
+        self._window.AddRenderer(self._renderer)
+        self._mapper = vtk.vtkPolyDataMapper()
+        self._mapper.ScalarVisibilityOn()
+        self._actor = vtk.vtkActor()
+        self._actor.SetMapper(self._mapper)
+        self._actor.GetProperty().LightingOff()
+        self._renderer.AddActor(self._actor)
+        self._value_pass = vtk.vtkValuePass()
+        self._value_pass.SetInputArrayToProcess(vtk.VTK_SCALAR_MODE_USE_POINT_FIELD_DATA, GBUFFER_ARRAY)
+        passes = vtk.vtkRenderPassCollection()
+        passes.AddItem(self._value_pass)
+        sequence = vtk.vtkSequencePass()
+        sequence.SetPasses(passes)
+        camera_pass = vtk.vtkCameraPass()
+        camera_pass.SetDelegatePass(sequence)
+        self._renderer.SetPass(camera_pass)
+        self._source = None
+        self._data = None
+
+    def _use_mesh(self, mesh: pv.PolyData) -> None:
+        # one shallow copy per mesh, carrying the normal+position array
+        if mesh is self._source:
+            return
+        data = pv.PolyData(mesh.points, faces=mesh.faces)
+        data.point_data[GBUFFER_ARRAY] = np.hstack(
+            [np.asarray(mesh.point_data["Normals"], np.float32), np.asarray(mesh.points, np.float32)]
+        )
+        self._mapper.SetInputData(data)
+        self._source, self._data = mesh, data
+
+    def render(self, mesh: pv.PolyData, camera: vtk.vtkCamera, size: tuple[int, int]) -> GBuffer:
+        """The G-buffer of ``mesh`` seen by ``camera`` at ``size`` = (width, height).
+
+        Parameters
+        ----------
+        mesh : pyvista.PolyData
+            A mesh from :func:`~phonglab.render.mesh.build_mesh` (point normals in ``"Normals"``).
+        camera : vtkCamera
+            Copied; the clipping range is fitted to the mesh.
+        size : (int, int)
+            Image width and height in pixels.
+        """
+        width, height = int(size[0]), int(size[1])
+        self._use_mesh(mesh)
+        self._window.SetSize(width, height)
+        self._renderer.GetActiveCamera().DeepCopy(camera)
+        self._renderer.ResetCameraClippingRange()
+        planes = []
+        # one pass per component: normal x, y, z then position x, y, z
+        for component in range(6):
+            self._value_pass.SetInputComponentToProcess(component)
+            self._window.Render()
+            values = vtk_to_numpy(self._value_pass.GetFloatImageDataArray(self._renderer))
+            planes.append(np.array(values, dtype=np.float32).reshape(height, width)[::-1])
+        data = np.stack(planes, axis=-1)
+        normals, positions = data[..., :3], data[..., 3:]
+        length = np.linalg.norm(normals, axis=-1)
+        mask = np.isfinite(length) & (length > 0)
+        # renormalise the interpolated normals (Phong shading's key step)
+        normals = np.where(mask[..., None], normals / np.where(mask, length, 1.0)[..., None], np.nan)
+        return GBuffer(positions=positions, normals=normals.astype(np.float32), mask=mask)
+
+    def close(self) -> None:
+        """Release the OpenGL context."""
+        self._renderer.SetPass(None)
+        self._window.Finalize()

@@ -1,0 +1,189 @@
+"""Geometry and colours of the arrows N, L, R, V, H and the light and eye markers.
+
+Every glyph is a triangle mesh carrying its colours as a uint8 RGB point
+array (:data:`COLOR_ARRAY`), so it looks the same in VTK and in vtk.js with
+lighting switched off. The soft relief on arrows comes from the core too: a
+matte material lit by a headlight, computed once per glyph.
+
+Directions point *away from the surface point*: every arrow starts at the
+probe point.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pyvista as pv
+
+from phonglab import core
+
+#: name of the uint8 RGB point array every glyph carries
+COLOR_ARRAY = "rgb"
+
+#: the vectors, in drawing order: letter -> (RGB colour 0..255, legend text)
+VECTORS = {
+    "N": ((86, 180, 233), "normal"),
+    "L": ((240, 228, 66), "to the light"),
+    "R": ((230, 97, 20), "reflected light"),
+    "V": ((0, 190, 140), "to the eye"),
+    "H": ((214, 130, 190), "halfway, (L + V)/|L + V|"),
+}
+EYE_COLOR = (235, 235, 235)
+PUPIL_COLOR = (40, 40, 48)
+
+#: arrow sizes in world units (meshes fit the unit sphere)
+ARROW_LENGTH = 0.62
+SHAFT_RADIUS = 0.018
+TIP_RADIUS = 0.05
+TIP_LENGTH = 0.3
+LIGHT_MARKER_SIZE = 0.09
+
+
+def parse_vectors(letters) -> str:
+    """Normalise a vector selection: ``"NLRVH"``, ``"N,L,R"``, ``["N", "V"]``, ``""`` or None.
+
+    Returns
+    -------
+    str
+        The selected letters in drawing order (may be empty).
+
+    Raises
+    ------
+    ValueError
+        Naming the unknown letters and the allowed ones.
+    """
+    if letters is None:
+        return ""
+    if not isinstance(letters, str):
+        letters = "".join(str(x) for x in letters)
+    text = letters.replace(",", "").replace(" ", "").upper()
+    if text in ("NONE", ""):
+        return ""
+    unknown = sorted(set(text) - set(VECTORS))
+    if unknown:
+        raise ValueError(
+            f"vectors: unknown {', '.join(unknown)} in {letters!r}; allowed letters are N, L, R, V, H (or none)"
+        )
+    return "".join(v for v in VECTORS if v in text)
+
+
+def _unit(v) -> np.ndarray:
+    v = np.asarray(v, dtype=np.float64)
+    n = np.linalg.norm(v)
+    return v / n if n > 0 else v
+
+
+def relief(mesh: pv.PolyData, base_rgb, view_direction) -> np.ndarray:
+    """uint8 RGB per point: ``base_rgb`` (0..255) lit by a headlight, computed by the core.
+
+    A matte material (``ka = kd = base``, a touch of specular) under an ambient
+    light and a directional light from over the viewer's shoulder; gives glyphs
+    a 3D look without VTK lighting.
+    """
+    base = tuple(float(c) / 255.0 for c in base_rgb)
+    material = core.Material(ka=base, kd=base, ks=0.2, shininess=24.0)
+    v = _unit(view_direction)
+    # light from over the viewer's shoulder: the view direction tilted up
+    up = np.array([0.0, 1.0, 0.0]) if abs(v[1]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    towards = _unit(v + 0.6 * _unit(up - (up @ v) * v))
+    lights = (core.AmbientLight(intensity=0.5), core.DirectionalLight(direction=tuple(towards), intensity=0.6))
+    shading = core.shade(
+        np.asarray(mesh.points, dtype=np.float64),
+        np.asarray(mesh.point_data["Normals"], dtype=np.float64),
+        view_direction=tuple(v),
+        material=material,
+        lights=lights,
+    )
+    return np.rint(np.clip(shading.color, 0.0, 1.0) * 255.0).astype(np.uint8)
+
+
+def _with_normals(mesh: pv.PolyData) -> pv.PolyData:
+    mesh = mesh.triangulate().compute_normals(
+        cell_normals=False, point_normals=True, split_vertices=True, feature_angle=45.0
+    )
+    return mesh
+
+
+def _colored(mesh: pv.PolyData, base_rgb, view_direction, shaded: bool = True) -> pv.PolyData:
+    mesh = _with_normals(mesh)
+    if shaded:
+        rgb = relief(mesh, base_rgb, view_direction)
+    else:
+        rgb = np.tile(np.asarray(base_rgb, dtype=np.uint8), (mesh.n_points, 1))
+    out = pv.PolyData(mesh.points, faces=mesh.faces)
+    out.point_data[COLOR_ARRAY] = rgb
+    return out
+
+
+def arrow(start, direction, color, view_direction, length: float = ARROW_LENGTH) -> pv.PolyData:
+    """An arrow from ``start`` along ``direction``, ``length`` long, coloured ``color``."""
+    mesh = pv.Arrow(
+        start=tuple(np.asarray(start, dtype=float)),
+        direction=tuple(_unit(direction)),
+        tip_length=TIP_LENGTH,
+        tip_radius=TIP_RADIUS / length,
+        shaft_radius=SHAFT_RADIUS / length,
+        tip_resolution=24,
+        shaft_resolution=16,
+        scale=length,
+    )
+    return _colored(mesh, color, view_direction)
+
+
+def light_color_255(light) -> tuple[int, int, int]:
+    """A marker colour for a light: its colour, brightened so the largest channel is 255."""
+    c = np.asarray(getattr(light, "color", (1.0, 1.0, 1.0)), dtype=float)
+    top = c.max()
+    c = c / top if top > 0 else np.ones(3)
+    return tuple(int(round(x)) for x in np.clip(c, 0, 1) * 255)
+
+
+def light_marker(light, view_direction, centre=(0.0, 0.0, 0.0)) -> pv.PolyData | None:
+    """The marker of a light: a sphere (point), a cone (spot) or three parallel arrows (directional).
+
+    Returns None for an ambient light (it has no place).
+    """
+    color = light_color_255(light)
+    size = LIGHT_MARKER_SIZE
+    if isinstance(light, core.SpotLight) and light.cutoff < 180:
+        axis = _unit(light.direction)
+        half_angle = min(float(light.cutoff), 50.0)
+        height = 3.0 * size
+        radius = height * math.tan(math.radians(half_angle))
+        # apex at the light, opening along the spot's axis
+        cone = pv.Cone(
+            center=tuple(np.asarray(light.position) + axis * height / 2),
+            direction=tuple(-axis),
+            height=height,
+            radius=radius,
+            resolution=32,
+            capping=True,
+        )
+        bulb = pv.Sphere(radius=0.45 * size, center=tuple(light.position), theta_resolution=16, phi_resolution=12)
+        return _colored(cone, color, view_direction).merge(_colored(bulb, color, view_direction, shaded=False))
+    if isinstance(light, (core.PointLight, core.SpotLight)):
+        bulb = pv.Sphere(radius=size, center=tuple(light.position), theta_resolution=24, phi_resolution=16)
+        return _colored(bulb, color, view_direction, shaded=False)
+    if isinstance(light, core.DirectionalLight):
+        d = _unit(light.direction)
+        centre = np.asarray(centre, dtype=float)
+        # three parallel arrows coming in from the light's side
+        side = np.cross(d, [0.0, 1.0, 0.0] if abs(d[1]) < 0.9 else [1.0, 0.0, 0.0])
+        side = _unit(side)
+        up = _unit(np.cross(side, d))
+        parts = []
+        for offset in (np.zeros(3), 0.22 * side, -0.22 * side):
+            tail = centre + 1.75 * d + offset + 0.05 * up
+            parts.append(arrow(tail, -d, color, view_direction, length=0.45))
+        return parts[0].merge(parts[1]).merge(parts[2])
+    return None
+
+
+def eye_marker(eye, focal_point, view_direction) -> pv.PolyData:
+    """An eyeball at ``eye`` with its pupil facing ``focal_point``."""
+    eye = np.asarray(eye, dtype=float)
+    look = _unit(np.asarray(focal_point, dtype=float) - eye)
+    ball = pv.Sphere(radius=0.08, center=tuple(eye), theta_resolution=24, phi_resolution=16)
+    pupil = pv.Sphere(radius=0.04, center=tuple(eye + 0.06 * look), theta_resolution=16, phi_resolution=12)
+    return _colored(ball, EYE_COLOR, view_direction).merge(_colored(pupil, PUPIL_COLOR, view_direction))

@@ -1,0 +1,280 @@
+"""Triangle meshes for a scene's :class:`~phonglab.scene.Geometry`, and points on them.
+
+Every mesh :func:`build_mesh` returns is made of triangles only and carries
+unit point normals in the point array ``"Normals"``. The parametric kinds are
+sized to sit inside the unit sphere around the origin, so that the default
+camera (eye at (0, 0, 4), 30° view angle) frames each of them; meshes read
+from files are centred and scaled to the same unit sphere.
+
+Directions point *away from the surface point*, as everywhere in phonglab.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+
+import numpy as np
+import pyvista as pv
+import vtk
+
+from phonglab.scene import SceneError
+
+#: size of the parametric shapes (world units)
+SPHERE_RADIUS = 1.0
+RING_RADIUS = 0.72
+TUBE_RADIUS = 0.3
+PLANE_SIZE = 2.4
+CUBE_SIDE = 1.3
+CYLINDER_RADIUS = 0.65
+CYLINDER_HEIGHT = 1.5
+#: superquadric roundness of the supertoroid (1 = a torus, smaller = boxier)
+SUPERTOROID_ROUNDNESS = 0.4
+#: angle above which an edge of a read mesh stays sharp when normals are computed
+FEATURE_ANGLE = 60.0
+
+
+def build_mesh(geometry) -> pv.PolyData:
+    """The triangle mesh of a geometry, with unit point normals.
+
+    Parameters
+    ----------
+    geometry : phonglab.scene.Geometry
+        ``kind`` picks the shape; ``resolution`` is the number of segments
+        around for the parametric kinds; ``name`` picks a mesh shipped with
+        PyVista (``kind="pyvista"``); ``path`` a mesh file (``kind="file"``).
+
+    Returns
+    -------
+    pyvista.PolyData
+        Triangles only, point normals in ``"Normals"`` (float32). Meshes are
+        cached per geometry: the result is a shallow copy of the cached mesh,
+        so add arrays freely but never write into its points or normals.
+
+    Raises
+    ------
+    SceneError
+        If a mesh file cannot be read or holds no surface.
+
+    Notes
+    -----
+    Resolution ``n`` gives: a sphere with ``n`` segments around the vertical
+    axis and ``n/2`` from pole to pole (poles on ±y); a torus and supertoroid
+    with ``n`` segments around the ring and ``n/2`` around the tube (ring in
+    the xy plane); an ``n × n`` plane in the xy plane facing +z; a cube with
+    ``n/4`` segments along each edge; a y-axis cylinder with ``n`` sides.
+    """
+    if geometry.kind == "file":
+        try:
+            stamp = os.stat(geometry.path).st_mtime_ns
+        except OSError as exc:
+            raise SceneError(f"cannot read the mesh file: {exc.strerror}", field="geometry.path",
+                             value=geometry.path) from None
+        cached = _cached_mesh(geometry, stamp)
+    else:
+        cached = _cached_mesh(geometry, None)
+    return cached.copy(deep=False)
+
+
+@functools.lru_cache(maxsize=32)
+def _cached_mesh(geometry, stamp) -> pv.PolyData:
+    # stamp (the file's modification time) makes an edited file miss the cache
+    if geometry.kind in ("pyvista", "file"):
+        mesh = _fit_unit_sphere(_read_surface(geometry))
+    else:
+        mesh = _parametric(geometry.kind, int(geometry.resolution))
+    return _finish(mesh)
+
+
+def _parametric(kind: str, n: int) -> pv.PolyData:
+    """A formula-built shape at resolution ``n``."""
+    half = max(3, n // 2)
+    if kind == "sphere":
+        return pv.Sphere(radius=SPHERE_RADIUS, direction=(0, 1, 0), theta_resolution=n, phi_resolution=half)
+    if kind == "torus":
+        return pv.ParametricTorus(
+            ringradius=RING_RADIUS, crosssectionradius=TUBE_RADIUS, u_res=n, v_res=half, w_res=1
+        )
+    if kind == "supertoroid":
+        return pv.ParametricSuperToroid(
+            ringradius=RING_RADIUS,
+            crosssectionradius=TUBE_RADIUS,
+            n1=SUPERTOROID_ROUNDNESS,
+            n2=SUPERTOROID_ROUNDNESS,
+            u_res=n,
+            v_res=half,
+            w_res=1,
+        )
+    if kind == "plane":
+        return pv.Plane(direction=(0, 0, 1), i_size=PLANE_SIZE, j_size=PLANE_SIZE, i_resolution=n, j_resolution=n)
+    if kind == "cube":
+        h = CUBE_SIDE / 2
+        return pv.Box(bounds=(-h, h, -h, h, -h, h), level=max(0, n // 4 - 1), quads=True)
+    if kind == "cylinder":
+        return pv.Cylinder(
+            direction=(0, 1, 0), radius=CYLINDER_RADIUS, height=CYLINDER_HEIGHT, resolution=n, capping=True
+        )
+    raise SceneError("has no mesh builder", field="geometry.kind", value=kind)  # pragma: no cover
+
+
+def _read_surface(geometry) -> pv.PolyData:
+    """The surface of a shipped or user mesh file, as PolyData."""
+    if geometry.kind == "pyvista":
+        from phonglab.scene.paths import pyvista_mesh_path
+
+        try:
+            path = str(pyvista_mesh_path(geometry.name))
+        except SceneError as exc:
+            raise exc.located(field="geometry") from None
+        field, value = "geometry.name", geometry.name
+    else:
+        path, field, value = geometry.path, "geometry.path", geometry.path
+    try:
+        data = pv.read(path)
+    except Exception as exc:  # readers raise many kinds; the message names the file
+        raise SceneError(f"cannot be read as a mesh ({exc})", field=field, value=value) from None
+    if isinstance(data, pv.MultiBlock):
+        data = data.combine()
+    if not isinstance(data, pv.PolyData):
+        data = data.extract_surface(algorithm="dataset_surface")
+    # keep the polygons only (strips become triangles): lines and vertices are not shaded
+    data = data.triangulate()
+    data = pv.PolyData(data.points, faces=data.faces) if data.n_faces else pv.PolyData()
+    if data.n_cells == 0:
+        raise SceneError("holds no surface (no polygons) to shade", field=field, value=value)
+    return data.clean()
+
+
+def _fit_unit_sphere(mesh: pv.PolyData) -> pv.PolyData:
+    """Centre a mesh on the origin and scale it to fit the unit sphere."""
+    points = np.asarray(mesh.points, dtype=np.float64)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    centre = (lo + hi) / 2
+    radius = float(np.linalg.norm(points - centre, axis=1).max())
+    mesh = mesh.copy()
+    mesh.points = (points - centre) / (radius if radius > 0 else 1.0)
+    return mesh
+
+
+def _finish(mesh: pv.PolyData) -> pv.PolyData:
+    """Triangulate, keep only unit float32 point normals."""
+    mesh = mesh.triangulate()
+    normals = mesh.point_data.get("Normals")
+    if normals is None:
+        closed = mesh.n_open_edges == 0
+        mesh = mesh.compute_normals(
+            cell_normals=False,
+            point_normals=True,
+            split_vertices=True,
+            feature_angle=FEATURE_ANGLE,
+            consistent_normals=True,
+            auto_orient_normals=closed,
+        )
+        normals = mesh.point_data["Normals"]
+    out = pv.PolyData(np.asarray(mesh.points, dtype=np.float32), faces=mesh.faces)
+    n = np.asarray(normals, dtype=np.float64)
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    n = np.where(length > 0, n / np.where(length > 0, length, 1.0), 0.0)
+    out.point_data["Normals"] = n.astype(np.float32)
+    out.point_data.active_normals_name = "Normals"
+    return out
+
+
+def triangles(mesh: pv.PolyData) -> np.ndarray:
+    """The (n_triangles, 3) point ids of a triangle mesh."""
+    return np.asarray(mesh.faces).reshape(-1, 4)[:, 1:]
+
+
+def face_centroids_normals(mesh: pv.PolyData) -> tuple[np.ndarray, np.ndarray]:
+    """Centroid and unit normal of every triangle.
+
+    The geometric normal ``(b - a) × (c - a)`` is flipped where it disagrees
+    with the mean of the triangle's point normals, so faces point the same
+    way as the smooth normals whatever the winding of the file.
+
+    Returns
+    -------
+    centroids, normals : ndarray, shape (n_triangles, 3), float32
+    """
+    tri = triangles(mesh)
+    p = np.asarray(mesh.points, dtype=np.float64)[tri]
+    centroids = p.mean(axis=1)
+    face = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    smooth = np.asarray(mesh.point_data["Normals"], dtype=np.float64)[tri].sum(axis=1)
+    face = np.where((np.einsum("ij,ij->i", face, smooth) < 0)[:, None], -face, face)
+    length = np.linalg.norm(face, axis=1, keepdims=True)
+    # a degenerate triangle (zero area) falls back to its smooth normal
+    use_smooth = length[:, 0] <= 0
+    face[use_smooth] = smooth[use_smooth]
+    length = np.linalg.norm(face, axis=1, keepdims=True)
+    face = face / np.where(length > 0, length, 1.0)
+    return centroids.astype(np.float32), face.astype(np.float32)
+
+
+def _locator(mesh: pv.PolyData) -> vtk.vtkStaticCellLocator:
+    locator = vtk.vtkStaticCellLocator()
+    locator.SetDataSet(mesh)
+    locator.BuildLocator()
+    return locator
+
+
+def surface_point(mesh: pv.PolyData, point) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh point closest to ``point`` and the smooth normal there.
+
+    The normal is the barycentric blend of the triangle's point normals,
+    normalised: the normal that pixel shading uses at that spot.
+
+    Returns
+    -------
+    point, normal : ndarray, shape (3,), float64
+    """
+    locator = _locator(mesh)
+    closest = [0.0, 0.0, 0.0]
+    cell_id, sub_id, dist2 = vtk.reference(0), vtk.reference(0), vtk.reference(0.0)
+    locator.FindClosestPoint([float(c) for c in point], closest, cell_id, sub_id, dist2)
+    return _blend_normal(mesh, int(cell_id), np.asarray(closest))
+
+
+def ray_hit(mesh: pv.PolyData, origin, target) -> tuple[np.ndarray, np.ndarray] | None:
+    """The first mesh point on the segment from ``origin`` through ``target``.
+
+    The segment is extended past ``target`` to twice its length.
+
+    Returns
+    -------
+    (point, normal) or None
+        None when the ray misses the mesh.
+    """
+    origin = np.asarray(origin, dtype=np.float64)
+    end = origin + 2.0 * (np.asarray(target, dtype=np.float64) - origin)
+    locator = _locator(mesh)
+    t, x, pcoords = vtk.reference(0.0), [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+    sub_id, cell_id = vtk.reference(0), vtk.reference(0)
+    cell = vtk.vtkGenericCell()
+    hit = locator.IntersectWithLine(list(origin), list(end), 1e-9, t, x, pcoords, sub_id, cell_id, cell)
+    if not hit:
+        return None
+    return _blend_normal(mesh, int(cell_id), np.asarray(x))
+
+
+def _blend_normal(mesh, cell_id: int, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    ids = triangles(mesh)[cell_id]
+    a, b, c = np.asarray(mesh.points, dtype=np.float64)[ids]
+    # barycentric weights of x in triangle abc
+    v0, v1, v2 = b - a, c - a, x - a
+    d00, d01, d11 = v0 @ v0, v0 @ v1, v1 @ v1
+    d20, d21 = v2 @ v0, v2 @ v1
+    denom = d00 * d11 - d01 * d01
+    if denom <= 0:
+        w = np.full(3, 1.0 / 3.0)
+    else:
+        wb = (d11 * d20 - d01 * d21) / denom
+        wc = (d00 * d21 - d01 * d20) / denom
+        w = np.clip(np.array([1.0 - wb - wc, wb, wc]), 0.0, 1.0)
+        w /= w.sum()
+    normal = w @ np.asarray(mesh.point_data["Normals"], dtype=np.float64)[ids]
+    length = np.linalg.norm(normal)
+    if length <= 0:
+        normal = np.cross(v0, v1)
+        length = np.linalg.norm(normal)
+    return x.astype(np.float64), normal / (length if length > 0 else 1.0)

@@ -1,0 +1,559 @@
+"""SceneView: one VTK renderer and window showing a scene shaded by the core.
+
+What the window holds:
+
+* the mesh, coloured by the core (RGB scalars, VTK lighting off): per face
+  (flat) or per vertex (gouraud, and pixel mode's preview);
+* arrows N, L, R, V, H at the probe point, in fixed colours;
+* a marker per light (a sphere for a point light, a cone for a spotlight,
+  three parallel arrows for a directional light) and an eye marker (shown
+  only when the VTK camera has left the scene's eye);
+* optionally VTK text: a letter at every arrow tip and a legend (for
+  server-side rendering; vtk.js does not draw these, see :meth:`SceneView.legend`).
+
+Every actor has lighting off and carries its colours in a point or cell
+array, so the geometry and colours are all a browser needs (trame-vtk's
+local view). :meth:`SceneView.update` changes arrays in place: moving a slider
+never adds an actor.
+
+Directions point *away from the surface point*: every arrow starts at the probe.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import tempfile
+
+import numpy as np
+import pyvista as pv
+import vtk
+from PIL import Image
+
+from phonglab import core
+from phonglab.render import glyphs, shading
+from phonglab.render._vtk import eye_distance, make_render_window, read_depth, read_rgb, set_camera
+from phonglab.render.annotate import draw_labels, draw_legend
+from phonglab.render.gbuffer import GBufferRenderer
+from phonglab.render.mesh import build_mesh, ray_hit, surface_point
+
+#: default background (slate), RGB in [0, 1]
+BACKGROUND = (0.13, 0.14, 0.17)
+#: the VTK camera counts as "at the eye" within this distance; the eye marker is hidden then
+EYE_MARKER_MIN_DISTANCE = 0.5
+
+
+def _array_to_vtk_in_place(owner, name: str, values: np.ndarray) -> None:
+    """Overwrite the named array's values, keeping the same VTK array object."""
+    array = owner[name]
+    array[...] = values
+    owner.GetArray(name).Modified()
+
+
+def default_probe(mesh: pv.PolyData, camera) -> tuple[np.ndarray, np.ndarray]:
+    """Where the vectors go when a scene gives no probe.
+
+    The first surface point on the ray from the eye through the focal point;
+    if that ray misses the mesh (a torus's hole), the surface point nearest
+    the eye.
+    """
+    hit = ray_hit(mesh, camera.eye, camera.focal_point)
+    return hit if hit is not None else surface_point(mesh, camera.eye)
+
+
+class SceneView:
+    """A scene shown in a VTK render window, lit by the core.
+
+    Parameters
+    ----------
+    scene : phonglab.scene.Scene
+    size : (int, int)
+        Window width and height in pixels.
+    offscreen : bool
+        Render offscreen (no display needed; EGL here).
+    vectors : str or None
+        Which of N, L, R, V, H to draw at the probe (``"NLRVH"``, ``"N,L"``,
+        ``""`` or None for none).
+    labels : bool
+        Letters at the arrow tips and the legend: VTK text in the window, and
+        drawn on :meth:`screenshot` images.
+    markers : bool
+        Show the light and eye markers.
+    term : str
+        ``"color"`` (the sum), or one term: ``"ambient"``, ``"diffuse"``, ``"specular"``.
+    light_index : int or None
+        Which light the vectors L, R, H refer to; None picks the first light
+        that is not ambient.
+    background : 3 floats in [0, 1]
+
+    Attributes
+    ----------
+    render_window : vtkRenderWindow
+    renderer : vtkRenderer
+    scene : Scene
+        The scene shown now.
+    """
+
+    def __init__(
+        self,
+        scene,
+        *,
+        size=(800, 600),
+        offscreen: bool = True,
+        vectors="NLRVH",
+        labels: bool = True,
+        markers: bool = True,
+        term: str = "color",
+        light_index: int | None = None,
+        background=BACKGROUND,
+    ):
+        if term not in shading.TERMS:
+            raise ValueError(f"term must be one of {', '.join(shading.TERMS)}, got {term!r}")
+        self.scene = scene
+        self.term = term
+        self.background = tuple(float(c) for c in background)
+        self.show_labels = bool(labels)
+        self.show_markers = bool(markers)
+        self._letters = glyphs.parse_vectors(vectors)
+        self._light_index_choice = light_index
+        self._gbuffer_renderer = None
+        self._gbuffer_cache = None
+
+        # window, renderer, camera
+        self.render_window = make_render_window(size, offscreen=offscreen)
+        self.renderer = vtk.vtkRenderer()
+        self.renderer.SetBackground(*self.background)
+        self.renderer.AutomaticLightCreationOff()
+        self.render_window.AddRenderer(self.renderer)
+        set_camera(self.renderer.GetActiveCamera(), scene.camera)
+
+        # the shaded mesh: one actor for the whole life of the view
+        self._mapper = vtk.vtkPolyDataMapper()
+        self._mesh_actor = vtk.vtkActor()
+        self._mesh_actor.SetMapper(self._mapper)
+        self._mesh_actor.GetProperty().LightingOff()
+        self.renderer.AddActor(self._mesh_actor)
+        self._set_mesh(build_mesh(scene.geometry))
+
+        # glyphs: an actor per arrow, per light, and the eye
+        self._arrows = {}
+        self._labels = {}
+        for letter in glyphs.VECTORS:
+            data = pv.PolyData()
+            self._arrows[letter] = (data, self._glyph_actor(data))
+            self._labels[letter] = self._label_actor(letter)
+        self._light_markers = []
+        self._eye = (pv.PolyData(), None)
+        self._eye = (self._eye[0], self._glyph_actor(self._eye[0]))
+        self._legend_actor = self._make_legend_actor()
+
+        # first fill
+        self._recolor()
+        self._locate_probe()
+        self._update_vectors()
+        self._update_light_markers()
+        self._update_eye_marker()
+
+    # ------------------------------------------------------------------
+    # building blocks
+
+    def _glyph_actor(self, data: pv.PolyData) -> vtk.vtkActor:
+        mapper = vtk.vtkPolyDataMapper()
+        mapper.SetInputData(data)
+        mapper.SetColorModeToDirectScalars()
+        mapper.SetScalarModeToUsePointData()
+        mapper.ScalarVisibilityOn()
+        actor = vtk.vtkActor()
+        actor.SetMapper(mapper)
+        actor.GetProperty().LightingOff()
+        actor.PickableOff()
+        self.renderer.AddActor(actor)
+        return actor
+
+    def _label_actor(self, letter: str) -> vtk.vtkBillboardTextActor3D:
+        actor = vtk.vtkBillboardTextActor3D()
+        actor.SetInput(letter)
+        prop = actor.GetTextProperty()
+        prop.SetColor(*(c / 255 for c in glyphs.VECTORS[letter][0]))
+        prop.BoldOn()
+        prop.SetFontSize(max(12, self.render_window.GetSize()[1] // 24))
+        prop.SetJustificationToCentered()
+        prop.SetVerticalJustificationToCentered()
+        actor.PickableOff()
+        self.renderer.AddActor(actor)
+        return actor
+
+    def _make_legend_actor(self) -> vtk.vtkTextActor:
+        actor = vtk.vtkTextActor()
+        prop = actor.GetTextProperty()
+        prop.SetFontSize(max(10, self.render_window.GetSize()[1] // 38))
+        prop.SetColor(0.92, 0.92, 0.92)
+        prop.SetBackgroundColor(0.04, 0.04, 0.06)
+        prop.SetBackgroundOpacity(0.65)
+        actor.SetPosition(8, 8)
+        actor.PickableOff()
+        self.renderer.AddViewProp(actor)
+        return actor
+
+    def _set_mesh(self, mesh: pv.PolyData) -> None:
+        """Show a new mesh (geometry changed): colour arrays sized for it."""
+        mesh.point_data[glyphs.COLOR_ARRAY] = np.zeros((mesh.n_points, 3), np.uint8)
+        mesh.cell_data[glyphs.COLOR_ARRAY] = np.zeros((mesh.n_cells, 3), np.uint8)
+        mesh.point_data.active_scalars_name = glyphs.COLOR_ARRAY
+        mesh.cell_data.active_scalars_name = glyphs.COLOR_ARRAY
+        self.mesh = mesh
+        self._mapper.SetInputData(mesh)
+        self._mapper.SetColorModeToDirectScalars()
+        self._mapper.ScalarVisibilityOn()
+        self._gbuffer_cache = None
+
+    # ------------------------------------------------------------------
+    # state
+
+    @property
+    def light_index(self) -> int | None:
+        """Index in ``scene.lights`` of the light the vectors refer to (None: no such light)."""
+        lights = self.scene.lights
+        if self._light_index_choice is not None:
+            i = self._light_index_choice
+            if 0 <= i < len(lights) and not isinstance(lights[i], core.AmbientLight):
+                return i
+        for i, light in enumerate(lights):
+            if not isinstance(light, core.AmbientLight):
+                return i
+        return None
+
+    @property
+    def probe(self) -> tuple[np.ndarray, np.ndarray]:
+        """The probe point on the surface and the unit normal there."""
+        return self._probe_point, self._probe_normal
+
+    @property
+    def probe_vectors(self):
+        """The core's ``ProbeVectors`` at the probe, or None without a directed light."""
+        return self._vectors
+
+    def _viewer(self) -> dict:
+        """The core's viewer keyword: ``eye=`` or ``view_direction=`` (infinite viewer)."""
+        camera = self.scene.camera
+        if camera.infinite_viewer:
+            return {"view_direction": camera.view_direction}
+        return {"eye": camera.eye}
+
+    # ------------------------------------------------------------------
+    # updates
+
+    def update(self, scene) -> None:
+        """Show ``scene``, recomputing only what differs from the current one.
+
+        The mesh's colour array is overwritten in place; actors are never
+        added on a change of material, lights, model or probe.
+        """
+        old, self.scene = self.scene, scene
+        changed = {
+            name
+            for name in ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe")
+            if getattr(old, name) != getattr(scene, name)
+        }
+        if not changed:
+            return
+        if "geometry" in changed:
+            self._set_mesh(build_mesh(scene.geometry))
+        if "camera" in changed:
+            set_camera(self.renderer.GetActiveCamera(), scene.camera)
+            self._gbuffer_cache = None
+        if changed & {"geometry", "material", "lights", "camera", "model", "interpolation", "two_sided"}:
+            self._recolor()
+        if changed & {"geometry", "probe"} or ("camera" in changed and scene.probe is None):
+            self._locate_probe()
+        if changed & {"geometry", "probe", "lights", "camera", "two_sided"}:
+            self._update_vectors()
+        if changed & {"lights", "camera"}:
+            self._update_light_markers()
+        if "camera" in changed:
+            self._update_eye_marker()
+
+    def set_probe(self, point) -> None:
+        """Move the probe to the surface point nearest ``point`` (None: the default probe)."""
+        self.scene = self._with_probe(point)
+        self._locate_probe()
+        self._update_vectors()
+
+    def _with_probe(self, point):
+        probe = None if point is None else tuple(float(c) for c in point)
+        return dataclasses.replace(self.scene, probe=probe)
+
+    def set_term(self, term: str) -> None:
+        """Show one term (``"ambient"``, ``"diffuse"``, ``"specular"``) or ``"color"`` (their sum)."""
+        if term not in shading.TERMS:
+            raise ValueError(f"term must be one of {', '.join(shading.TERMS)}, got {term!r}")
+        if term != self.term:
+            self.term = term
+            self._recolor()
+
+    def set_vectors(self, vectors) -> None:
+        """Choose which of N, L, R, V, H are drawn (``"NLRVH"``, ``"N,L"``, None)."""
+        self._letters = glyphs.parse_vectors(vectors)
+        self._update_vectors()
+
+    def set_size(self, size) -> None:
+        """Resize the window to (width, height) pixels."""
+        self.render_window.SetSize(int(size[0]), int(size[1]))
+        for actor in self._labels.values():
+            actor.GetTextProperty().SetFontSize(max(12, int(size[1]) // 24))
+        self._legend_actor.GetTextProperty().SetFontSize(max(10, int(size[1]) // 38))
+
+    def _recolor(self) -> None:
+        """Recompute the mesh colours with the core and write them into the arrays."""
+        mesh, scene = self.mesh, self.scene
+        if scene.interpolation == "flat":
+            rgb = shading.face_colors(scene, mesh, (self.term,))[self.term]
+            _array_to_vtk_in_place(mesh.cell_data, glyphs.COLOR_ARRAY, rgb)
+            self._mapper.SetScalarModeToUseCellData()
+        else:
+            # gouraud, and the interactive preview of pixel mode
+            rgb = shading.vertex_colors(scene, mesh, (self.term,))[self.term]
+            _array_to_vtk_in_place(mesh.point_data, glyphs.COLOR_ARRAY, rgb)
+            self._mapper.SetScalarModeToUsePointData()
+        self._mapper.Modified()
+
+    def _locate_probe(self) -> None:
+        if self.scene.probe is None:
+            point, normal = default_probe(self.mesh, self.scene.camera)
+        else:
+            point, normal = surface_point(self.mesh, self.scene.probe)
+        self._probe_point, self._probe_normal = point, normal
+
+    def _update_vectors(self) -> None:
+        """Recompute N, L, R, V, H at the probe and reshape the arrows in place."""
+        index = self.light_index
+        point, normal = self._probe_point, self._probe_normal
+        if index is not None:
+            self._vectors = core.vectors(
+                point, normal, light=self.scene.lights[index], two_sided=self.scene.two_sided, **self._viewer()
+            )
+            directions = {"N": self._vectors.n, "L": self._vectors.l, "R": self._vectors.r,
+                          "V": self._vectors.v, "H": self._vectors.h}
+        else:
+            self._vectors = None
+            camera = self.scene.camera
+            v = np.asarray(camera.eye) - point if not camera.infinite_viewer else np.asarray(camera.view_direction)
+            v = v / np.linalg.norm(v)
+            n = -normal if (self.scene.two_sided and normal @ v < 0) else normal
+            directions = {"N": n, "V": v}
+        view_direction = self.scene.camera.view_direction
+        for letter, (data, actor) in self._arrows.items():
+            shown = letter in self._letters and letter in directions
+            if shown:
+                data.ShallowCopy(glyphs.arrow(point, directions[letter], glyphs.VECTORS[letter][0], view_direction))
+                data.Modified()
+                tip = point + directions[letter] * glyphs.ARROW_LENGTH * 1.12
+                self._labels[letter].SetPosition(*tip)
+            actor.SetVisibility(bool(shown))
+            self._labels[letter].SetVisibility(bool(shown and self.show_labels))
+        self._directions = directions
+        entries = [f"{letter}  {glyphs.VECTORS[letter][1]}" for letter in self._letters if letter in directions]
+        self._legend_actor.SetInput("\n".join(entries))
+        self._legend_actor.SetVisibility(bool(entries) and self.show_labels)
+
+    def _update_light_markers(self) -> None:
+        """One marker per light; actors are reused, added only if the number of lights grows."""
+        view_direction = self.scene.camera.view_direction
+        lights = self.scene.lights
+        while len(self._light_markers) < len(lights):
+            data = pv.PolyData()
+            self._light_markers.append((data, self._glyph_actor(data)))
+        for i, (data, actor) in enumerate(self._light_markers):
+            marker = glyphs.light_marker(lights[i], view_direction) if i < len(lights) else None
+            if marker is not None:
+                data.ShallowCopy(marker)
+                data.Modified()
+            actor.SetVisibility(marker is not None and self.show_markers)
+
+    def _update_eye_marker(self) -> None:
+        camera = self.scene.camera
+        data, actor = self._eye
+        data.ShallowCopy(glyphs.eye_marker(camera.eye, camera.focal_point, camera.view_direction))
+        data.Modified()
+        self._sync_eye_visibility()
+
+    def _sync_eye_visibility(self) -> None:
+        # the eye marker would fill the screen when the VTK camera sits at the eye
+        at_eye = np.linalg.norm(
+            np.asarray(self.renderer.GetActiveCamera().GetPosition()) - np.asarray(self.scene.camera.eye)
+        )
+        self._eye[1].SetVisibility(bool(self.show_markers and at_eye > EYE_MARKER_MIN_DISTANCE))
+
+    # ------------------------------------------------------------------
+    # rendering
+
+    def render(self) -> None:
+        """Render the window (fits the clipping range first)."""
+        self._sync_eye_visibility()
+        self.renderer.ResetCameraClippingRange()
+        self.render_window.Render()
+
+    def pick(self, display_x: float, display_y: float):
+        """The mesh point under a display position, or None.
+
+        Parameters
+        ----------
+        display_x, display_y : float
+            VTK display coordinates: pixels from the window's *bottom-left* corner.
+
+        Returns
+        -------
+        ndarray of shape (3,) or None
+            The picked world point on the mesh (glyphs are not pickable).
+        """
+        picker = vtk.vtkCellPicker()
+        picker.SetTolerance(0.0005)
+        picker.PickFromListOn()
+        picker.AddPickList(self._mesh_actor)
+        self.renderer.ResetCameraClippingRange()
+        if not picker.Pick(float(display_x), float(display_y), 0.0, self.renderer):
+            return None
+        if picker.GetCellId() < 0:
+            return None
+        return np.asarray(picker.GetPickPosition(), dtype=np.float64)
+
+    def _gbuffer(self):
+        """The G-buffer for the current mesh, VTK camera and window size (cached)."""
+        camera = self.renderer.GetActiveCamera()
+        size = tuple(self.render_window.GetSize())
+        key = (id(self.mesh), size, camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),
+               camera.GetViewAngle(), camera.GetParallelProjection(), camera.GetParallelScale())
+        if self._gbuffer_cache is None or self._gbuffer_cache[0] != key:
+            if self._gbuffer_renderer is None:
+                self._gbuffer_renderer = GBufferRenderer()
+            self._gbuffer_cache = (key, self._gbuffer_renderer.render(self.mesh, camera, size))
+        return self._gbuffer_cache[1]
+
+    def pixel_image(self, term: str | None = None) -> np.ndarray:
+        """The mesh shaded per pixel by the core, on the background (no glyphs).
+
+        Parameters
+        ----------
+        term : str, optional
+            ``"color"``, ``"ambient"``, ``"diffuse"`` or ``"specular"``; the view's term by default.
+
+        Returns
+        -------
+        ndarray, shape (height, width, 3), uint8
+            For the current VTK camera and window size, top row first.
+        """
+        term = term or self.term
+        return shading.pixel_colors(self.scene, self._gbuffer(), self.background, (term,))[term]
+
+    def annotate(self, image: np.ndarray, *, legend: bool = True) -> np.ndarray:
+        """Draw the letters at the arrow tips (and the legend) on a rendered image.
+
+        Parameters
+        ----------
+        image : ndarray, shape (height, width, 3), uint8
+            A render of this view at its current camera and size.
+        legend : bool
+            Also draw the legend box.
+        """
+        if not self.show_labels:
+            return image
+        height = image.shape[0]
+        labels, entries = [], []
+        point = self._probe_point
+        for letter in self._letters:
+            if letter not in self._directions:
+                continue
+            tip = point + self._directions[letter] * glyphs.ARROW_LENGTH
+            x, y = self._to_image(tip, height)
+            bx, by = self._to_image(point, height)
+            labels.append((letter, (x, y), (x - bx, y - by), glyphs.VECTORS[letter][0]))
+            entries.append((letter, glyphs.VECTORS[letter][1], glyphs.VECTORS[letter][0]))
+        image = draw_labels(image, labels)
+        return draw_legend(image, entries) if legend else image
+
+    def _to_image(self, world, height: int) -> tuple[float, float]:
+        self.renderer.SetWorldPoint(float(world[0]), float(world[1]), float(world[2]), 1.0)
+        self.renderer.WorldToDisplay()
+        x, y, _ = self.renderer.GetDisplayPoint()
+        return x, height - 1 - y
+
+    def screenshot(self, path=None, *, annotate: bool = True) -> np.ndarray:
+        """Render and return the image, optionally saving it as PNG.
+
+        In pixel mode the per-pixel shaded mesh is composited with the glyphs
+        by depth. Labels and the legend are drawn on the image (not by VTK).
+
+        Parameters
+        ----------
+        path : str or path-like, optional
+            Where to write a PNG (written to a temporary file, then renamed).
+        annotate : bool
+            Draw the vector letters and the legend.
+
+        Returns
+        -------
+        ndarray, shape (height, width, 3), uint8
+        """
+        text_actors = list(self._labels.values()) + [self._legend_actor]
+        visible = [a.GetVisibility() for a in text_actors]
+        for a in text_actors:
+            a.VisibilityOff()
+        pixel_mode = self.scene.interpolation == "pixel"
+        try:
+            if pixel_mode:
+                self._mesh_actor.VisibilityOff()
+            self.render()
+            image = read_rgb(self.render_window)
+            if pixel_mode:
+                depth = read_depth(self.render_window)
+                image = self._composite(image, depth)
+        finally:
+            self._mesh_actor.VisibilityOn()
+            for a, v in zip(text_actors, visible):
+                a.SetVisibility(v)
+        if annotate:
+            image = self.annotate(image)
+        if path is not None:
+            save_png(image, path)
+        return image
+
+    def _composite(self, overlay: np.ndarray, depth: np.ndarray) -> np.ndarray:
+        """Per-pixel shaded mesh in front of or behind the glyphs, by depth."""
+        camera = self.renderer.GetActiveCamera()
+        gbuffer = self._gbuffer()
+        shaded = self.pixel_image()
+        glyph_z = eye_distance(camera, depth)
+        eye = np.asarray(camera.GetPosition())
+        axis = np.asarray(camera.GetDirectionOfProjection())
+        mesh_z = np.where(gbuffer.mask, (gbuffer.positions - eye) @ axis, np.inf)
+        front = gbuffer.mask & (mesh_z <= glyph_z * (1 + 1e-4))
+        return np.where(front[..., None], shaded, overlay)
+
+    def legend(self) -> list[tuple[str, str, str]]:
+        """The vectors shown, for a legend drawn elsewhere (HTML): (letter, meaning, "#rrggbb")."""
+        return [
+            (letter, glyphs.VECTORS[letter][1], "#%02x%02x%02x" % glyphs.VECTORS[letter][0])
+            for letter in self._letters
+            if letter in self._directions
+        ]
+
+    def close(self) -> None:
+        """Release the OpenGL contexts."""
+        if self._gbuffer_renderer is not None:
+            self._gbuffer_renderer.close()
+        self.render_window.Finalize()
+
+
+def save_png(image: np.ndarray, path) -> None:
+    """Write an RGB image as PNG through a temporary file in the same folder, then rename."""
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".phonglab-", suffix=".png")
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            Image.fromarray(np.asarray(image, dtype=np.uint8)).save(handle, format="PNG")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
