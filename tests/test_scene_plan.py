@@ -202,3 +202,35 @@ def test_planned_shading_equals_full_evaluation(scene, seed, dtype):
     context = f"scene={scene!r}\nplan={plan(scene).computed!r}\nseed={seed}, dtype={np.dtype(dtype).name}"
     for term in ("ambient", "diffuse", "specular", "emission", "color"):
         assert_within_ulp(getattr(planned, term), getattr(full, term), f"term {term}\n{context}")
+
+
+# ---------------------------------------------------------------------------
+# the benchmark runs end to end (its timings are not checked: benchmarks are not tests)
+
+
+def test_planner_benchmark_reports_every_case_with_a_verdict(capsys):
+    import argparse
+
+    from phonglab.bench import planner
+
+    parser = argparse.ArgumentParser()
+    planner.add_arguments(parser)
+    assert planner.run(parser.parse_args(["--points", "3000", "--repeats", "1"])) == 0
+    out = capsys.readouterr().out
+    for name in planner.cases():
+        assert name in out, f"{name} missing from:\n{out}"
+    for name in planner.TARGETS:
+        row = next(line for line in out.splitlines() if line.startswith(name + " "))
+        assert row.split()[-1] in ("PASS", "MISS"), row
+
+
+def test_benchmark_scenes_plan_what_their_names_say():
+    from phonglab.bench.planner import cases
+
+    scenes = cases()
+    assert plan(scenes["ambient only"]).core.lights == ()
+    assert not plan(scenes["diffuse only"]).core.specular
+    directional = plan(scenes["directional + infinite viewer"]).core
+    assert directional.constant_view and all(lp.constant_l for lp in directional.lights), directional
+    spot = plan(scenes["spotlight with attenuation"]).core.lights
+    assert spot and spot[0].spot and spot[0].attenuation, spot
