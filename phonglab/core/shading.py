@@ -402,7 +402,7 @@ def shade(
             # colour = (diffuse + specular) + (ambient + emission), while the block is in cache
             _add_color(d, s, base, color[start:stop])
     else:
-        color[...] = base
+        _fill_rows(color, base)
 
     def per_point(term, rgb):
         # terms that are constant (or skipped) are read-only broadcast views
@@ -436,6 +436,9 @@ class _Constants:
         if view_direction is not None:
             self.view = _unit(view_direction, dtype)
         kd, ks = np.asarray(material.kd), np.asarray(material.ks)
+        self.needs_view = plan.specular or plan.two_sided
+        self.needs_points = (self.needs_view and eye is not None) or any(
+            not isinstance(lights[lp.index], DirectionalLight) for lp in plan.lights)
         self.lights = []
         for lp in plan.lights:
             lt = lights[lp.index]
@@ -492,21 +495,27 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
     """
     dtype = const.dtype
     zero = dtype.type(0)
-    p = np.empty((3, len(points)), dtype)
-    np.copyto(p, points.T, casting="unsafe")
-    n = np.empty_like(p)
+    shape = (3, len(normals))
+    n = np.empty(shape, dtype)
     np.copyto(n, normals.T, casting="unsafe")
     n, _ = normalize_c(n, out=n)
+    p = None
+    if const.needs_points:  # a local viewer or a light with a position
+        p = np.empty(shape, dtype)
+        np.copyto(p, points.T, casting="unsafe")
 
     # the view vector: constant for an infinite viewer, else per point
+    v = v_len = None
     v_zero = False
-    if const.eye is not None:
+    if not const.needs_view:
+        pass  # diffuse only and one-sided: V is never used
+    elif const.eye is not None:
         v, v_len = normalize_c(np.subtract(const.eye, p))
         v_zero = v_len.min() == 0  # the eye on a surface point: no specular there
     elif plan.constant_view:
         v = const.view
     else:  # the full evaluation keeps a per-point copy
-        v = np.broadcast_to(const.view, p.shape).copy()
+        v = np.broadcast_to(const.view, shape).copy()
 
     # two-sided: negate normals facing away from the eye
     if plan.two_sided:
@@ -517,7 +526,7 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
         lp = item["plan"]
         # direction to the light, and its distance for attenuation
         if "l" in item:
-            l = item["l"] if lp.constant_l else np.broadcast_to(item["l"], p.shape).copy()
+            l = item["l"] if lp.constant_l else np.broadcast_to(item["l"], shape).copy()
             dist = None
         else:
             l, dist = normalize_c(np.subtract(item["position"], p))
@@ -576,6 +585,19 @@ def _accumulate(out, weight, rgb, first):
             np.multiply(weight, rgb[k], out=out[:, k])
         else:
             out[:, k] += weight * rgb[k]
+
+
+def _fill_rows(out, row):
+    """Every row of ``out (n, 3)`` set to ``row``, at memory-copy speed.
+
+    One block of the repeated pattern is made once and copied flat, instead
+    of broadcasting over a last axis of 3 (several times slower).
+    """
+    flat = out.reshape(-1)
+    block = np.tile(row.astype(out.dtype), min(CHUNK, len(out)))
+    for start in range(0, flat.size, block.size):
+        stop = min(start + block.size, flat.size)
+        flat[start:stop] = block[: stop - start]
 
 
 def _add_color(diffuse, specular, base, color_out):
