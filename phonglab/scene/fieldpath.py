@@ -175,37 +175,31 @@ def _homogeneous_of(light: dict) -> list:
 def _locate(data: dict, path: str, parts: list):
     """Walk ``parts`` through ``data``; return (container, key) of the field, checked against the format."""
     node = data
-    for i, part in enumerate(parts[:-1] + [parts[-1]]):
+    for i, part in enumerate(parts):
         last = i == len(parts) - 1
         if isinstance(part, str):
             keys = _keys_for(data, parts[:i]) if isinstance(node, dict) else None
-            if not isinstance(node, dict) or keys is None or part not in keys:
-                return _fail(_no_field(path, parts, i, keys))
+            if keys is None or part not in keys:
+                raise _no_field(path, parts, i, keys)
             if part == "homogeneous" and not last:
                 node[part] = _homogeneous_of(node)  # index into [x, y, z, w]
             if last:
                 return node, part
-            if part not in node:
-                if part in ("probe",) or part in ("diffuse", "specular", "name", "path"):
-                    return _fail(SceneError(f"is not set, so {format_path(parts[: i + 1])} has no parts", field=path))
-                return _fail(_no_field(path, parts, i, keys))
+            if part not in node:  # an optional field left out (probe, a light's diffuse)
+                raise SceneError(f"is not set, so {format_path(parts[: i + 1])} has no parts", field=path)
             node = node[part]
         else:
             if not isinstance(node, list):
-                return _fail(SceneError(f"{format_path(parts[:i])} is not a list", field=path))
+                raise SceneError(f"{format_path(parts[:i])} is not a list", field=path)
             if part >= len(node):
                 what = "light" if parts[:i] == ["lights"] else "item"
                 count = f"{len(node)} {what}s" if len(node) != 1 else f"1 {what}"
                 rule = f"index must be below {len(node)}" if node else "the list is empty"
-                return _fail(SceneError(f"no such {what}: {rule} ({count})", field=path))
+                raise SceneError(f"no such {what}: {rule} ({count})", field=path)
             if last:
                 return node, part
             node = node[part]
-    raise AssertionError("unreachable")
-
-
-def _fail(error: SceneError):
-    raise error
+    raise SceneError(_PATH_RULE, value=path)
 
 
 def field_value(scene: Scene, path: str):

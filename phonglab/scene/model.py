@@ -16,10 +16,9 @@ import difflib
 import math
 import numbers
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:  # pragma: no cover
-    from phonglab.core import Material
+from phonglab import core
 
 #: geometry kinds built from a formula, with a resolution
 PARAMETRIC_KINDS = ("sphere", "torus", "plane", "cube", "cylinder", "supertoroid")
@@ -410,7 +409,7 @@ class Scene:
     """
 
     geometry: Geometry
-    material: "Material"
+    material: core.Material
     lights: tuple
     camera: Camera
     model: str = "phong"
@@ -421,8 +420,6 @@ class Scene:
     source: str | None = None
 
     def __post_init__(self):
-        from phonglab import core
-
         def check_lights(value):
             if not isinstance(value, (list, tuple)):
                 raise SceneError("must be a list of lights", field="lights", value=value)
