@@ -244,6 +244,19 @@ def test_homogeneous_type_must_agree_with_w(tmp_path):
     assert error.field == "lights[0].type" and "w = 0 makes a directional light" in error.problem, error
 
 
+def test_homogeneous_excludes_position(tmp_path):
+    path = write(tmp_path, "s.toml", SPHERE + MATERIAL + "[[lights]]\nhomogeneous = [0, 0, 1, 1]\nposition = [1, 1, 1]\n")
+    error = only_error(path)
+    assert error.field == "lights[0].position" and "next to homogeneous" in error.problem, error
+
+
+def test_a_table_where_a_value_belongs_and_back(tmp_path):
+    errors = errors_of(write(tmp_path, "s.toml", 'material = 3\n' + SPHERE + '[lights]\ntype = "ambient"\n'))
+    text = "\n".join(map(str, errors))
+    assert {e.field for e in errors} == {"material", "lights"}, text
+    assert "material: must be a table, got 3" in text and "lights: must be a list of [[lights]] tables" in text, text
+
+
 def test_pyvista_mesh_name_is_checked(tmp_path):
     error = only_error(write(tmp_path, "s.toml", '[geometry]\nkind = "pyvista"\nname = "bunny"\n' + MATERIAL))
     assert error.field == "geometry.name" and '"ant"' in error.problem, error

@@ -245,7 +245,16 @@ def build_light(data, problems: _Problems, path: str):
     kind = data.get("type")
     if homogeneous:
         # type follows from w; a given type must agree with it
-        table = problems.table(path, data, HOMOGENEOUS_KEYS)
+        for key in ("position", "direction"):
+            if key in data:
+                problems.add(
+                    SceneError(
+                        "cannot be given next to homogeneous = [x, y, z, w], which already places the light",
+                        field=join_path(path, key),
+                        value=data[key],
+                    )
+                )
+        table = problems.table(path, {k: v for k, v in data.items() if k not in ("position", "direction")}, HOMOGENEOUS_KEYS)
         w_type = None
         hom = problems.run(check_homogeneous, join_path(path, "homogeneous"), data["homogeneous"])
         if hom is not None:
