@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from phonglab.render import _files
 from phonglab.render.annotate import downsample
 from phonglab.render.view import BACKGROUND, SceneView
 
@@ -224,23 +224,17 @@ def stderr_progress(done: int, total: int, label: str) -> None:
 
 
 def write_atomically(path: Path, write) -> None:
-    """Call ``write(tmp_path)`` on a temporary file beside ``path``, then rename it to ``path``.
+    """Write ``path`` whole or not at all (see :func:`phonglab.render._files.write_atomically`).
 
     Raises
     ------
     FigureError
-        If the file cannot be written; the temporary file is removed.
+        If the file cannot be written; nothing is left behind.
     """
-    fd, tmp = tempfile.mkstemp(dir=str(path.resolve().parent), prefix=f".{path.stem}-", suffix=path.suffix)
-    os.close(fd)
     try:
-        write(tmp)
-        os.replace(tmp, path)
+        _files.write_atomically(path, write)
     except OSError as exc:
         raise FigureError(f"{path}: cannot write: {exc.strerror or exc}") from None
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
 
 
 def save_image(image: np.ndarray, path: Path, ext: str) -> None:
@@ -498,24 +492,24 @@ def _terms_figure(scene, size, letters, supersample, background, progress):
     """Ambient, diffuse, specular and their sum, labelled with their formulas."""
     spec = r"\max(0,\,n\cdot h)^{\alpha}" if scene.model == "blinn-phong" else r"\max(0,\,r\cdot v)^{\alpha}"
     terms = [
-        ("ambient", r"ambient  $k_a I_a$"),
-        ("diffuse", r"diffuse  $k_d I_d \max(0,\,n\cdot l)$"),
-        ("specular", rf"specular  $k_s I_s {spec}$"),
-        ("color", "sum" + ("  (+ emission)" if any(scene.material.emission) else "")),
+        ("ambient", "ambient", r"$k_a I_a$"),
+        ("diffuse", "diffuse", r"$k_d I_d \max(0,\,n\cdot l)$"),
+        ("specular", "specular", rf"$k_s I_s {spec}$"),
+        ("color", "sum", "all three + emission" if any(scene.material.emission) else "all three added"),
     ]
     rows, cols = (1, 4) if size[0] >= 2 * size[1] else (2, 2)
-    cells = [(scene, term, term) for term, _ in terms]
-    labels = [label for _, label in terms]
+    cells = [(scene, term, term) for term, _, _ in terms]
     boxes, unit = _grid_layout(size, rows, cols, title=False, row_labels=False, col_labels=False)
-    # labels go inside each cell's top edge: reserve no extra band
     fig = _grid_figure(scene, cells, rows, cols, size, letters, supersample, background, progress)
-    fs = unit * 0.72
+    # a label inside each cell's top edge, small enough to fit the cell's width
+    fs = min(unit * 0.72, boxes[0][0][2] / 13 * 0.72)
     W, H = size
-    for i, text in enumerate(labels):
+    for i, (_, name, formula) in enumerate(terms):
         r, c = divmod(i, cols)
         x, y, w, _ = boxes[r][c]
-        fig.text((x + w / 2) / W, 1 - (y + 0.4 * unit) / H, text, ha="center", va="top", fontsize=fs,
-                 color="white", bbox=dict(boxstyle="round,pad=0.3", facecolor=(0, 0, 0, 0.45), edgecolor="none"))
+        fig.text((x + w / 2) / W, 1 - (y + 0.3 * unit) / H, f"{name}\n{formula}", ha="center", va="top",
+                 fontsize=fs, color="white", linespacing=1.5,
+                 bbox=dict(boxstyle="round,pad=0.3", facecolor=(0, 0, 0, 0.45), edgecolor="none"))
     return fig
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import os
+import warnings
 
 import numpy as np
 import pyvista as pv
@@ -90,7 +91,8 @@ def _parametric(kind: str, n: int) -> pv.PolyData:
     """A formula-built shape at resolution ``n``."""
     half = max(3, n // 2)
     if kind == "sphere":
-        return pv.Sphere(radius=SPHERE_RADIUS, direction=(0, 1, 0), theta_resolution=n, phi_resolution=half)
+        # VTK counts latitude *points* pole to pole: half + 1 of them make half segments
+        return pv.Sphere(radius=SPHERE_RADIUS, direction=(0, 1, 0), theta_resolution=n, phi_resolution=half + 1)
     if kind == "torus":
         return pv.ParametricTorus(
             ringradius=RING_RADIUS, crosssectionradius=TUBE_RADIUS, u_res=n, v_res=half, w_res=1
@@ -130,7 +132,9 @@ def _read_surface(geometry) -> pv.PolyData:
     else:
         path, field, value = geometry.path, "geometry.path", geometry.path
     try:
-        data = pv.read(path)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the reader's own complaint; ours follows
+            data = pv.read(path)
     except Exception as exc:  # readers raise many kinds; the message names the file
         raise SceneError(f"cannot be read as a mesh ({exc})", field=field, value=value) from None
     if isinstance(data, pv.MultiBlock):

@@ -22,8 +22,6 @@ Directions point *away from the surface point*: every arrow starts at the probe.
 from __future__ import annotations
 
 import dataclasses
-import os
-import tempfile
 
 import numpy as np
 import pyvista as pv
@@ -31,7 +29,7 @@ import vtk
 from PIL import Image
 
 from phonglab import core
-from phonglab.render import glyphs, shading
+from phonglab.render import _files, glyphs, shading
 from phonglab.render._vtk import eye_distance, make_render_window, read_depth, read_rgb, set_camera
 from phonglab.render.annotate import draw_labels, draw_legend
 from phonglab.render.gbuffer import GBufferRenderer
@@ -388,8 +386,15 @@ class SceneView:
     # rendering
 
     def render(self) -> None:
-        """Render the window (fits the clipping range first)."""
+        """Render the window (fits the clipping range first).
+
+        The scene's view angle spans the *shorter* side of the window: the
+        height of a wide window (VTK's usual vertical angle), the width of a
+        tall one, so that a tall panel does not crop the mesh.
+        """
         self._sync_eye_visibility()
+        width, height = self.render_window.GetSize()
+        self.renderer.GetActiveCamera().SetUseHorizontalViewAngle(bool(width < height))
         self.renderer.ResetCameraClippingRange()
         self.render_window.Render()
 
@@ -545,15 +550,5 @@ class SceneView:
 
 
 def save_png(image: np.ndarray, path) -> None:
-    """Write an RGB image as PNG through a temporary file in the same folder, then rename."""
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".phonglab-", suffix=".png")
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            Image.fromarray(np.asarray(image, dtype=np.uint8)).save(handle, format="PNG")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write an RGB image as PNG, whole or not at all (temporary file, then rename)."""
+    _files.write_atomically(path, lambda tmp: Image.fromarray(np.asarray(image, dtype=np.uint8)).save(tmp, format="PNG"))

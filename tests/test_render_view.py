@@ -1,0 +1,183 @@
+"""SceneView: in-place updates, vectors at the probe, markers, picking, pixel-mode compositing."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+vtk = pytest.importorskip("vtk")
+
+import phonglab as pl  # noqa: E402
+from phonglab.render import glyphs  # noqa: E402
+from phonglab.render.view import SceneView  # noqa: E402
+from phonglab.scene import Camera, Geometry, Scene  # noqa: E402
+
+SIZE = (200, 150)
+
+
+def red_sphere(**changes) -> Scene:
+    scene = Scene(
+        geometry=Geometry("sphere", 24),
+        material=pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40),
+        lights=(pl.AmbientLight(intensity=0.2), pl.PointLight(position=(2, 2.5, 3))),
+        camera=Camera(),
+        probe=(0.35, 0.45, 0.82),
+    )
+    for path, value in changes.items():
+        scene = scene.replace(path.replace("__", "."), value)
+    return scene
+
+
+@pytest.fixture
+def view():
+    v = SceneView(red_sphere(), size=SIZE)
+    yield v
+    v.close()
+
+
+def props(view):
+    collection = view.renderer.GetViewProps()
+    return [collection.GetItemAsObject(i) for i in range(collection.GetNumberOfItems())]
+
+
+def test_slider_moves_change_colours_in_place_without_new_actors(view):
+    before = props(view)
+    array = view.mesh.GetPointData().GetArray("rgb")
+    colours = np.array(view.mesh.point_data["rgb"])
+    for scene in (red_sphere(material__ks=0.1), red_sphere(material__shininess=5),
+                  red_sphere(**{"lights[1].position": [-2, 1, 3]}), red_sphere(model="blinn-phong")):
+        view.update(scene)
+    after = props(view)
+    assert [id(p) for p in after] == [id(p) for p in before], f"{len(before)} props became {len(after)}"
+    assert view.mesh.GetPointData().GetArray("rgb") is array, "the colour array was replaced, not updated"
+    assert not np.array_equal(colours, np.asarray(view.mesh.point_data["rgb"])), "colours did not change"
+
+
+def test_every_actor_has_lighting_off_and_colours_from_arrays(view):
+    view.update(red_sphere(**{"lights[1]": {"type": "spot", "position": [2, 2, 3], "direction": [-2, -2, -3],
+                                             "cutoff": 25}}))
+    actors = [p for p in props(view) if isinstance(p, vtk.vtkActor)]
+    assert len(actors) >= 7, f"only {len(actors)} actors"
+    for actor in actors:
+        assert not actor.GetProperty().GetLighting(), f"{actor} has VTK lighting on"
+        data = actor.GetMapper().GetInput()
+        if data.GetNumberOfPoints():
+            scalars = data.GetPointData().GetScalars() or data.GetCellData().GetScalars()
+            assert scalars is not None and scalars.GetNumberOfComponents() == 3, f"{actor}: no RGB scalars"
+            assert scalars.GetDataTypeAsString() == "unsigned char", scalars.GetDataTypeAsString()
+
+
+def test_vectors_at_probe_are_the_core_vectors(view):
+    vec = view.probe_vectors
+    point, normal = view.probe
+    expected = pl.vectors(point, normal, eye=(0, 0, 4), light=view.scene.lights[1])
+    for name in "nlrvh":
+        assert np.allclose(getattr(vec, name), getattr(expected, name)), f"{name}: {getattr(vec, name)}"
+    # each arrow starts at the probe and points along its vector
+    for letter, (data, actor) in view._arrows.items():
+        assert actor.GetVisibility()
+        pts = np.asarray(data.GetPoints().GetData())
+        d = getattr(vec, letter.lower())
+        along = (pts - point) @ d
+        assert along.min() > -0.01 and abs(along.max() - glyphs.ARROW_LENGTH) < 0.01, f"{letter}: {along.min()}"
+
+
+def test_set_probe_moves_the_arrows_to_the_nearest_surface_point(view):
+    view.set_probe((-3.0, 0.0, 0.0))
+    point, normal = view.probe
+    assert point[0] < -0.99 and normal[0] < -0.99, f"probe {point}, normal {normal}"
+    pts = np.asarray(view._arrows["N"][0].GetPoints().GetData())
+    assert pts[:, 0].min() < -1.5, "the N arrow did not move"
+    view.set_probe(None)  # default: where the eye's line of sight hits
+    assert view.probe[0][2] > 0.99, f"default probe {view.probe[0]}"
+
+
+def test_choosing_vectors_hides_the_others(view):
+    view.set_vectors("N,V")
+    shown = {letter for letter, (_, actor) in view._arrows.items() if actor.GetVisibility()}
+    assert shown == {"N", "V"}, shown
+    assert [e[0] for e in view.legend()] == ["N", "V"]
+    with pytest.raises(ValueError, match="Q"):
+        view.set_vectors("NQ")
+
+
+def test_light_markers_match_light_kinds(view):
+    view.update(red_sphere(**{"lights[1]": {"type": "spot", "position": [2, 2, 3], "direction": [-2, -2, -3],
+                                             "cutoff": 25}}))
+    data, actor = view._light_markers[1]
+    assert actor.GetVisibility()
+    pts = np.asarray(data.GetPoints().GetData())
+    # a cone: the apex at the light, opening along the axis (away from the light)
+    axis = -np.array([2, 2, 3]) / np.linalg.norm([2, 2, 3])
+    along = (pts - np.array([2, 2, 3])) @ axis
+    assert along.max() > 0.2 and along.min() > -0.05, f"cone spans {along.min()}..{along.max()} along the axis"
+    assert not view._light_markers[0][1].GetVisibility(), "the ambient light has a marker"
+
+
+def test_eye_marker_only_when_the_camera_leaves_the_eye(view):
+    view.render()
+    assert not view._eye[1].GetVisibility(), "eye marker shown while the camera sits at the eye"
+    view.renderer.GetActiveCamera().Azimuth(60)
+    view.render()
+    assert view._eye[1].GetVisibility(), "eye marker hidden after orbiting"
+
+
+def test_pick_returns_surface_point_or_none(view):
+    view.render()
+    hit = view.pick(SIZE[0] / 2, SIZE[1] / 2)
+    assert hit is not None and abs(np.linalg.norm(hit) - 1) < 0.02 and hit[2] > 0.9, f"picked {hit}"
+    assert view.pick(1, 1) is None, "picked something in the corner"
+
+
+def test_pixel_mode_draws_arrows_over_the_shaded_mesh():
+    scene = red_sphere(interpolation="pixel")
+    with_arrows = SceneView(scene, size=SIZE, labels=False)
+    without = SceneView(scene, size=SIZE, vectors=None, labels=False)
+    try:
+        a = with_arrows.screenshot(annotate=False)
+        b = without.screenshot(annotate=False)
+        shaded = without.pixel_image()
+    finally:
+        with_arrows.close()
+        without.close()
+    assert np.array_equal(b, shaded), "pixel mode without glyphs is not the per-pixel image"
+    changed = np.any(a != b, axis=-1)
+    assert 0.002 * changed.size < changed.sum() < 0.2 * changed.size, f"{changed.sum()} pixels show glyphs"
+    # the arrow colours appear (the relief shades them, so look for their hue: bright yellow L)
+    yellowish = (a[..., 0] > 150) & (a[..., 1] > 150) & (a[..., 2] < 90)
+    assert yellowish.sum() > 5, "the yellow L arrow is not visible in pixel mode"
+
+
+def test_terms_add_up_to_the_colour():
+    scene = red_sphere(interpolation="gouraud")
+    view = SceneView(scene, size=SIZE, vectors=None)
+    try:
+        parts = {}
+        for term in ("ambient", "diffuse", "specular", "color"):
+            view.set_term(term)
+            parts[term] = np.asarray(view.mesh.point_data["rgb"]).astype(int)
+    finally:
+        view.close()
+    total = parts["ambient"] + parts["diffuse"] + parts["specular"]
+    unclipped = parts["color"] < 255
+    err = np.abs(total - parts["color"])[unclipped].max()
+    assert err <= 2, f"ambient + diffuse + specular differs from the colour by {err}/255 (rounding allows 2)"
+    assert parts["specular"].max() > 100 and parts["ambient"].max() < 20, "terms look swapped"
+
+
+def test_screenshot_writes_png(tmp_path, view):
+    from PIL import Image
+
+    path = tmp_path / "shot.png"
+    image = view.screenshot(path)
+    with Image.open(path) as saved:
+        assert saved.size == SIZE and np.array_equal(np.asarray(saved.convert("RGB")), image)
+    assert [p.name for p in tmp_path.iterdir()] == ["shot.png"], "a temporary file was left behind"
+
+
+def test_geometry_change_keeps_the_actor_and_resizes_arrays(view):
+    actor_count = len(props(view))
+    view.update(red_sphere(geometry__kind="torus"))
+    assert len(props(view)) == actor_count
+    assert view.mesh.point_data["rgb"].shape == (view.mesh.n_points, 3)
+    assert view._mesh_actor.GetMapper().GetInput() is view.mesh
