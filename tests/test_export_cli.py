@@ -1,0 +1,194 @@
+"""``phonglab export``: figures from the command line; every bad input is one line, exit 2, no file."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("vtk")
+
+from phonglab.cli import main  # noqa: E402
+
+SCENE = """\
+title = "CLI sphere"
+probe = [0.35, 0.45, 0.82]
+[geometry]
+kind = "sphere"
+resolution = 12
+[material]
+ka = 0.1
+kd = [0.8, 0.3, 0.2]
+ks = 0.6
+shininess = 40
+[[lights]]
+type = "ambient"
+intensity = 0.2
+[[lights]]
+type = "point"
+position = [2, 2.5, 3]
+[camera]
+eye = [0, 0, 5]
+"""
+
+
+@pytest.fixture
+def scene_file(tmp_path) -> Path:
+    path = tmp_path / "scene.toml"
+    path.write_text(SCENE)
+    return path
+
+
+@pytest.fixture
+def out_dir(tmp_path) -> Path:
+    folder = tmp_path / "out"
+    folder.mkdir()
+    return folder
+
+
+def export(*args):
+    return main(["export", *[str(a) for a in args]])
+
+
+def test_export_writes_the_png_and_prints_its_path(scene_file, out_dir, capsys):
+    out = out_dir / "sphere.png"
+    assert export(scene_file, "-o", out, "--size", "160x120", "--supersample", "1") == 0
+    from PIL import Image
+
+    with Image.open(out) as img:
+        assert img.size == (160, 120)
+    assert capsys.readouterr().out.strip() == str(out)
+    assert sorted(p.name for p in out_dir.iterdir()) == ["sphere.png"]
+
+
+def test_sweep_reports_progress_on_stderr(scene_file, out_dir, capsys):
+    out = out_dir / "grid.png"
+    code = export(scene_file, "-o", out, "--size", "240x200", "--supersample", "1",
+                  "--sweep", "material.ks=0.1,0.9", "--sweep", "material.shininess=4,64")
+    err = capsys.readouterr().err
+    assert code == 0, err
+    lines = [line for line in err.splitlines() if "rendered" in line]
+    assert len(lines) == 4 and "4/4" in lines[-1], err
+
+
+def test_plot_to_svg(scene_file, out_dir):
+    out = out_dir / "lobe.svg"
+    assert export(scene_file, "-o", out, "--plot", "lobe", "--size", "500x300") == 0
+    assert out.read_bytes().lstrip().startswith(b"<?xml")
+
+
+BAD = [
+    # (extra arguments, output name, words the error must contain)
+    (["--set", "material.kz=1"], "x.png", ["material.kz"]),
+    (["--set", "material.ks=banana"], "x.png", ["material.ks", "banana"]),
+    (["--set", "material.shininess=-5"], "x.png", ["material.shininess", "-5"]),
+    (["--set", "material.ks"], "x.png", ["PATH=VALUE"]),
+    (["--size", "12x"], "x.png", ["size", "12x"]),
+    (["--size", "100000x10"], "x.png", ["size", "100000x10"]),
+    (["--vectors", "NQ"], "x.png", ["Q", "N, L, R, V, H"]),
+    (["--sweep", "material.ks"], "x.png", ["sweep", "material.ks"]),
+    (["--sweep", "material.ks=0.1,oops"], "x.png", ["material.ks", "oops"]),
+    (["--sweep", "material.ks=1", "--terms"], "x.png", ["terms", "sweep"]),
+    ([], "x.jpg", ["x.jpg", ".jpg", ".png"]),
+    ([], "noext", ["noext", "no extension"]),
+    (["--supersample", "9"], "x.png", ["supersample", "9"]),
+]
+
+
+@pytest.mark.parametrize("extra, name, words", BAD, ids=[" ".join(b[0]) or b[1] for b in BAD])
+def test_bad_input_is_one_line_exit_2_and_no_file(scene_file, out_dir, capsys, extra, name, words):
+    code = export(scene_file, "-o", out_dir / name, *extra)
+    err = capsys.readouterr().err
+    assert code == 2, f"{extra} {name}: exit {code}, stderr {err!r}"
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("phonglab export: error: "), f"{extra}: stderr {err!r}"
+    for word in words:
+        assert word in lines[0], f"{extra} {name}: {word!r} missing from {lines[0]!r}"
+    assert list(out_dir.iterdir()) == [], f"{extra}: left {list(out_dir.iterdir())}"
+
+
+def test_missing_output_folder(scene_file, tmp_path, capsys):
+    target = tmp_path / "nowhere" / "x.png"
+    assert export(scene_file, "-o", target) == 2
+    err = capsys.readouterr().err
+    assert "does not exist" in err and "nowhere" in err, err
+    assert not target.parent.exists()
+
+
+def test_output_folder_is_a_file(scene_file, tmp_path, capsys):
+    blocker = tmp_path / "blocker"
+    blocker.write_text("a file, not a folder")
+    assert export(scene_file, "-o", blocker / "x.png") == 2
+    err = capsys.readouterr().err
+    assert "not a folder" in err, err
+    assert blocker.read_text() == "a file, not a folder"
+
+
+def test_output_is_a_folder(scene_file, out_dir, capsys):
+    folder = out_dir / "shots.png"
+    folder.mkdir()
+    assert export(scene_file, "-o", folder) == 2
+    assert "is a folder" in capsys.readouterr().err
+    assert list(folder.iterdir()) == []
+
+
+@pytest.mark.skipif(hasattr(os, "geteuid") and os.geteuid() == 0, reason="root writes into read-only folders")
+def test_read_only_folder(scene_file, out_dir, capsys):
+    out_dir.chmod(0o555)
+    try:
+        assert export(scene_file, "-o", out_dir / "x.png") == 2
+        assert "not writable" in capsys.readouterr().err
+    finally:
+        out_dir.chmod(0o755)
+
+
+def test_missing_scene_file(out_dir, capsys):
+    assert export(out_dir / "absent.toml", "-o", out_dir / "x.png") == 2
+    err = capsys.readouterr().err
+    assert "absent.toml" in err and len(err.strip().splitlines()) == 1, err
+    assert list(out_dir.iterdir()) == []
+
+
+def test_broken_scene_file_reports_its_first_problem_on_one_line(tmp_path, out_dir, capsys):
+    broken = tmp_path / "broken.toml"
+    broken.write_text(SCENE.replace("shininess = 40", "shininess = -1").replace("ks = 0.6", "ks = -2"))
+    assert export(broken, "-o", out_dir / "x.png") == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "broken.toml" in err, err
+    assert list(out_dir.iterdir()) == []
+
+
+def test_failure_while_writing_leaves_no_partial_file(scene_file, out_dir, capsys, monkeypatch):
+    from PIL import Image
+
+    def half_then_fail(self, fp, *args, **kwargs):
+        with open(fp, "wb") as handle:
+            handle.write(b"\x89PNG half a file")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(Image.Image, "save", half_then_fail)
+    assert export(scene_file, "-o", out_dir / "x.png", "--size", "64x48", "--supersample", "1") == 2
+    err = capsys.readouterr().err
+    assert "No space left on device" in err and len(err.strip().splitlines()) == 1, err
+    assert list(out_dir.iterdir()) == [], f"left {list(out_dir.iterdir())}"
+
+
+def test_failed_export_keeps_the_previous_file(scene_file, out_dir, capsys):
+    out = out_dir / "keep.png"
+    out.write_bytes(b"previous figure")
+    assert export(scene_file, "-o", out, "--set", "material.ks=-1") == 2
+    assert out.read_bytes() == b"previous figure"
+
+
+def test_the_installed_command_runs(scene_file, out_dir):
+    out = out_dir / "cmd.png"
+    result = subprocess.run(
+        [sys.executable, "-m", "phonglab.cli", "export", str(scene_file), "-o", str(out), "--size", "120x90"],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    assert out.stat().st_size > 1000
+    assert "WARN" not in result.stderr, f"VTK noise on stderr: {result.stderr!r}"
