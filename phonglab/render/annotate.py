@@ -95,16 +95,19 @@ def draw_legend(image: np.ndarray, entries, *, corner: str = "bottom-left") -> n
     line = round(size * 1.45)
     pad = round(size * 0.6)
     icon = round(size * 1.8)
-    out = Image.fromarray(image).convert("RGBA")
-    layer = Image.new("RGBA", out.size, (0, 0, 0, 0))
+    measure = ImageDraw.Draw(Image.new("RGBA", (1, 1)))
+    text_width = max(measure.textlength(f"{d}", font=fnt) for _, d, _ in entries)
+    letter_width = max(measure.textlength(letter, font=bold) for letter, _, _ in entries)
+    box_w = min(int(pad * 3 + icon + letter_width + size * 0.6 + text_width), width - 2 * pad)
+    box_h = min(int(pad * 2 + line * len(entries)), height - 2 * pad)
+    # draw on the legend's own patch of the image only
+    left = pad
+    top = height - box_h - pad if corner == "bottom-left" else pad
+    patch = Image.fromarray(np.ascontiguousarray(image[top:top + box_h + 1, left:left + box_w + 1])).convert("RGBA")
+    layer = Image.new("RGBA", patch.size, (0, 0, 0, 0))
     draw = ImageDraw.Draw(layer)
-    text_width = max(draw.textlength(f"{d}", font=fnt) for _, d, _ in entries)
-    letter_width = max(draw.textlength(letter, font=bold) for letter, _, _ in entries)
-    box_w = int(pad * 3 + icon + letter_width + size * 0.6 + text_width)
-    box_h = int(pad * 2 + line * len(entries))
-    x0 = pad
-    y0 = height - box_h - pad if corner == "bottom-left" else pad
-    draw.rounded_rectangle((x0, y0, x0 + box_w, y0 + box_h), radius=pad, fill=(10, 10, 14, 170))
+    x0, y0 = 0, 0
+    draw.rounded_rectangle((x0, y0, box_w, box_h), radius=pad, fill=(10, 10, 14, 170))
     for i, (letter, description, rgb) in enumerate(entries):
         colour = tuple(int(c) for c in rgb) + (255,)
         cy = y0 + pad + line * i + line / 2
@@ -119,13 +122,13 @@ def draw_legend(image: np.ndarray, entries, *, corner: str = "bottom-left") -> n
         tx = ax + icon + pad
         draw.text((tx, cy), letter, font=bold, fill=colour, anchor="lm")
         draw.text((tx + letter_width + size * 0.6, cy), description, font=fnt, fill=(235, 235, 235, 255), anchor="lm")
-    return np.asarray(Image.alpha_composite(out, layer).convert("RGB"))
+    out = np.array(image)
+    out[top:top + box_h + 1, left:left + box_w + 1] = np.asarray(Image.alpha_composite(patch, layer).convert("RGB"))
+    return out
 
 
 def downsample(image: np.ndarray, factor: int) -> np.ndarray:
     """Average ``factor × factor`` blocks (supersampling antialiasing)."""
     if factor <= 1:
         return image
-    h, w = image.shape[0] // factor, image.shape[1] // factor
-    blocks = image[: h * factor, : w * factor].reshape(h, factor, w, factor, -1).astype(np.float32)
-    return np.rint(blocks.mean(axis=(1, 3))).astype(np.uint8)
+    return np.asarray(Image.fromarray(np.ascontiguousarray(image)).reduce(int(factor)))

@@ -112,13 +112,20 @@ class GBufferRenderer:
             self._window.Render()
             values = vtk_to_numpy(self._value_pass.GetFloatImageDataArray(self._renderer))
             planes.append(np.array(values, dtype=np.float32).reshape(height, width)[::-1])
-        data = np.stack(planes, axis=-1)
-        normals, positions = data[..., :3], data[..., 3:]
-        length = np.linalg.norm(normals, axis=-1)
-        mask = np.isfinite(length) & (length > 0)
+        normals = np.stack(planes[:3], axis=-1)
+        positions = np.stack(planes[3:], axis=-1)
+        # uncovered pixels hold NaN; a zero normal cannot be shaded either
+        mask = np.isfinite(planes[0])
+        covered = normals[mask]
+        length = np.sqrt(np.einsum("ij,ij->i", covered, covered))
+        good = length > 0
+        if not good.all():
+            mask[mask] = good
+            covered, length = covered[good], length[good]
         # renormalise the interpolated normals (Phong shading's key step)
-        normals = np.where(mask[..., None], normals / np.where(mask, length, 1.0)[..., None], np.nan)
-        return GBuffer(positions=positions, normals=normals.astype(np.float32), mask=mask)
+        normals[...] = np.nan
+        normals[mask] = covered / length[:, None]
+        return GBuffer(positions=positions, normals=normals, mask=mask)
 
     def close(self) -> None:
         """Release the OpenGL context."""

@@ -42,8 +42,13 @@ def term_of(shading, term: str) -> np.ndarray:
 
 def to_rgb8(values) -> np.ndarray:
     """Clip colours to [0, 1] and scale them to uint8 RGB (rounded)."""
-    values = np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0)
-    return np.rint(np.clip(values, 0.0, 1.0) * 255.0).astype(np.uint8)
+    values = np.asarray(values)
+    if values.dtype not in (np.float32, np.float64):
+        values = values.astype(np.float64)
+    scaled = np.clip(values, 0.0, 1.0) * 255.0
+    # NaN would survive the clip; it becomes black
+    scaled = np.where(np.isnan(scaled), 0.0, scaled) if np.isnan(scaled).any() else scaled
+    return np.rint(scaled).astype(np.uint8)
 
 
 def vertex_colors(scene, mesh, terms=("color",)) -> dict[str, np.ndarray]:

@@ -527,12 +527,17 @@ class SceneView:
         camera = self.renderer.GetActiveCamera()
         gbuffer = self._gbuffer()
         shaded = self.pixel_image()
-        glyph_z = eye_distance(camera, depth)
+        mask = gbuffer.mask
+        glyph_z = eye_distance(camera, depth[mask])
         eye = np.asarray(camera.GetPosition())
         axis = np.asarray(camera.GetDirectionOfProjection())
-        mesh_z = np.where(gbuffer.mask, (gbuffer.positions - eye) @ axis, np.inf)
-        front = gbuffer.mask & (mesh_z <= glyph_z * (1 + 1e-4))
-        return np.where(front[..., None], shaded, overlay)
+        # the mesh wins where it is nearer than any glyph (or where no glyph was drawn)
+        mesh_z = (gbuffer.positions[mask] - eye) @ axis
+        front = np.zeros_like(mask)
+        front[mask] = mesh_z <= glyph_z * (1 + 1e-4)
+        out = overlay.copy()
+        out[front] = shaded[front]
+        return out
 
     def legend(self) -> list[tuple[str, str, str]]:
         """The vectors shown, for a legend drawn elsewhere (HTML): (letter, meaning, "#rrggbb")."""
