@@ -1,4 +1,4 @@
-"""phonglab.render.figure: single renders, per-term views, sweeps, plots, formats and option checks."""
+"""phonglab.render.figures: single renders, per-term views, sweeps, plots, formats and option checks."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 pytest.importorskip("vtk")
 
 import phonglab as pl  # noqa: E402
-from phonglab.render.figure import (  # noqa: E402
+from phonglab.render.figures import (  # noqa: E402
     FigureError,
     _grid_layout,
     figure,

@@ -24,7 +24,7 @@ pytest.importorskip("vtk")
 
 import phonglab as pl  # noqa: E402
 from phonglab.render.compare import image_difference  # noqa: E402
-from phonglab.render.figure import figure, render  # noqa: E402
+from phonglab.render.figures import figure, render  # noqa: E402
 from phonglab.scene import Camera, Geometry, Scene  # noqa: E402
 
 IMAGES = Path(__file__).parent / "images"

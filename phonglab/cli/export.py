@@ -52,7 +52,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
-    from phonglab.render.figure import AUTO, FigureError, figure, parse_size, stderr_progress
+    from phonglab.render.figures import AUTO, FigureError, figure, parse_size, stderr_progress
     from phonglab.scene import SceneError
 
     try:

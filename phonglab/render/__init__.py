@@ -10,7 +10,7 @@ reaches VTK as uint8 RGB scalars on actors with lighting off.
 * :func:`figure` — PNG/SVG/PDF figures: renders, per-term views, sweeps, plots.
 """
 
-from phonglab.render.figure import FigureError, figure, render
+from phonglab.render.figures import FigureError, figure, render
 from phonglab.render.mesh import build_mesh
 from phonglab.render.view import SceneView
 

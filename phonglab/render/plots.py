@@ -1,7 +1,7 @@
 """Matplotlib plots of the model: the specular lobe, Lambert's cosine, the plane of incidence.
 
 Each ``*_plot`` function returns a matplotlib ``Figure`` (Agg backend) of the
-requested pixel size; :func:`phonglab.render.figure.figure` saves it as PNG,
+requested pixel size; :func:`phonglab.render.figures.figure` saves it as PNG,
 SVG or PDF. Directions point *away from the surface point*.
 """
 
@@ -200,10 +200,10 @@ def incidence_plot(scene, size):
 
     Raises
     ------
-    phonglab.render.figure.FigureError
+    phonglab.render.figures.FigureError
         If the scene has no point, directional or spot light.
     """
-    from phonglab.render.figure import FigureError
+    from phonglab.render.figures import FigureError
 
     probe = _probe_vectors(scene)
     if probe is None:
