@@ -1,0 +1,384 @@
+"""Study 1: flat, Gouraud and per-pixel shading of a sphere against the exact sphere.
+
+The scene is a unit sphere with a tight highlight (α = 200) seen by the
+default camera. The *reference* shades, at every pixel, the point where the
+pixel's ray meets the exact sphere, with the exact normal, in float64. Each
+method shades the triangle mesh the app shows at a given resolution
+(:func:`phonglab.render.mesh.build_mesh`), seen through the same pixels
+(:mod:`phonglab.accuracy.raycast` finds the triangle and the barycentric
+weights of each pixel's hit):
+
+- ``flat``: one shade per triangle, at its centroid with its face normal;
+- ``gouraud``: one shade per vertex, colours blended with the weights;
+- ``pixel``: normals blended with the weights, one shade per pixel.
+
+Errors are differences of the unclamped RGB colour, over the pixels both the
+mesh and the sphere cover. Times are the shading work of each method only
+(shade calls and blending): which triangle a pixel sees is found once and not
+timed, since a rasterizer does that for every method alike.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from phonglab import core
+from phonglab.accuracy.raycast import View, camera_rays, hit_mesh, hit_sphere
+from phonglab.accuracy.timing import interleaved_times, median_time
+
+__all__ = [
+    "METHODS",
+    "Setup",
+    "default_setup",
+    "reference",
+    "prepare",
+    "shade_method",
+    "measure",
+    "ErrorView",
+    "error_images",
+    "false_colour",
+    "ERROR_RANGE",
+]
+
+#: interpolation methods, cheapest first
+METHODS = ("flat", "gouraud", "pixel")
+
+#: the error images' colour scale: log10 of |error| from the first to the second value
+ERROR_RANGE = (1e-4, 1.0)
+
+#: pixels not covered by the surface in the rendered images (RGB, 0-255)
+BACKGROUND = (26, 26, 30)
+
+#: a pixel belongs to the highlight where the reference's specular term is at
+#: least this fraction of its peak
+HIGHLIGHT_FRACTION = 0.1
+
+
+@dataclass(frozen=True)
+class Setup:
+    """Material, lights and camera of the study."""
+
+    material: core.Material
+    lights: tuple
+    view: View = field(default_factory=View)
+
+
+def default_setup(size: int = 128) -> Setup:
+    """The study's scene: a red plastic sphere with a tight white highlight."""
+    return Setup(
+        material=core.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.8, shininess=200.0),
+        lights=(core.AmbientLight(intensity=0.2), core.PointLight(position=(2.0, 2.5, 3.0))),
+        view=View(width=size, height=size),
+    )
+
+
+def _shade(setup: Setup, points, normals) -> core.Shading:
+    return core.shade(points, normals, material=setup.material, lights=setup.lights, eye=setup.view.eye)
+
+
+@dataclass(frozen=True)
+class Reference:
+    """The exact sphere seen through every pixel, shaded in float64.
+
+    ``color`` and ``specular`` are (height, width, 3), NaN where the ray
+    misses the sphere; ``peak`` is the (row, col) of the highlight's
+    brightest pixel and ``highlight`` the pixels of the highlight.
+    """
+
+    color: np.ndarray
+    specular: np.ndarray
+    mask: np.ndarray
+    peak: tuple[int, int]
+    highlight: np.ndarray
+    time: float
+
+
+def reference(setup: Setup, *, repeats: int = 3) -> Reference:
+    """Shade the exact sphere at every pixel (the reference of this study)."""
+    points, normals, mask = hit_sphere(camera_rays(setup.view))
+    p, n = points[mask], normals[mask]
+    seconds, s = median_time(lambda: _shade(setup, p, n), repeats)
+    color = np.full(points.shape, np.nan)
+    specular = np.full(points.shape, np.nan)
+    color[mask], specular[mask] = s.color, s.specular
+    spec = np.where(mask, specular.sum(axis=-1), -np.inf)
+    peak = np.unravel_index(int(np.argmax(spec)), mask.shape)
+    highlight = mask & (spec >= HIGHLIGHT_FRACTION * spec[peak])
+    return Reference(color, specular, mask, (int(peak[0]), int(peak[1])), highlight, seconds)
+
+
+@dataclass(frozen=True)
+class Prepared:
+    """A sphere mesh at one resolution and what each pixel sees of it (untimed)."""
+
+    resolution: int
+    points: np.ndarray  # (V, 3) float64
+    normals: np.ndarray  # (V, 3) float64, unit
+    triangles: np.ndarray  # (T, 3)
+    centroids: np.ndarray  # (T, 3) float64
+    face_normals: np.ndarray  # (T, 3) float64
+    mask: np.ndarray  # (height, width): pixels the mesh covers
+    triangle: np.ndarray  # (n_hit,) triangle seen by each covered pixel
+    weights: np.ndarray  # (n_hit, 3) barycentric weights
+
+    @property
+    def n_vertices(self) -> int:
+        return int(self.points.shape[0])
+
+    @property
+    def n_triangles(self) -> int:
+        return int(self.triangles.shape[0])
+
+
+def prepare(setup: Setup, resolution: int) -> Prepared:
+    """Build the app's sphere mesh at ``resolution`` and cast the pixel rays at it."""
+    from phonglab.render.mesh import build_mesh, face_centroids_normals, triangles
+    from phonglab.scene import Geometry
+
+    mesh = build_mesh(Geometry(kind="sphere", resolution=int(resolution)))
+    tri = triangles(mesh)
+    centroids, face_normals = face_centroids_normals(mesh)
+    points = np.asarray(mesh.points, dtype=np.float64)
+    hits = hit_mesh(setup.view, points, tri)
+    return Prepared(
+        resolution=int(resolution),
+        points=points,
+        normals=np.asarray(mesh.point_data["Normals"], dtype=np.float64),
+        triangles=tri,
+        centroids=np.asarray(centroids, dtype=np.float64),
+        face_normals=np.asarray(face_normals, dtype=np.float64),
+        mask=hits.mask,
+        triangle=hits.triangle,
+        weights=hits.weights,
+    )
+
+
+def _blend(values, prep: Prepared):
+    """Barycentric blend of per-vertex ``values`` (V, 3) at every covered pixel."""
+    corners = prep.triangles[prep.triangle]  # (n_hit, 3)
+    w = prep.weights
+    return w[:, 0:1] * values[corners[:, 0]] + w[:, 1:2] * values[corners[:, 1]] + w[:, 2:3] * values[corners[:, 2]]
+
+
+def shade_method(setup: Setup, prep: Prepared, method: str) -> np.ndarray:
+    """The colours of the covered pixels (n_hit, 3) under one interpolation method."""
+    if method == "flat":
+        per_face = _shade(setup, prep.centroids, prep.face_normals).color
+        return per_face[prep.triangle]
+    if method == "gouraud":
+        per_vertex = _shade(setup, prep.points, prep.normals).color
+        return _blend(per_vertex, prep)
+    if method == "pixel":
+        # normals blended then renormalised by the core: Phong shading
+        return _shade(setup, _blend(prep.points, prep), _blend(prep.normals, prep)).color
+    raise ValueError(f"method: must be one of {', '.join(METHODS)}, got {method!r}")
+
+
+def _image(mask, values) -> np.ndarray:
+    out = np.full(mask.shape + (3,), np.nan)
+    out[mask] = values
+    return out
+
+
+def errors(ref: Reference, image: np.ndarray, mask: np.ndarray) -> dict:
+    """RMSE, maximum error, highlight RMSE and highlight peak error of an image.
+
+    Over the pixels covered by both the image (``mask``) and the reference;
+    errors are absolute differences of the RGB colour.
+    """
+    both = mask & ref.mask
+    diff = np.abs(image[both] - ref.color[both])
+    highlight = both & ref.highlight
+    hdiff = np.abs(image[highlight] - ref.color[highlight])
+    row, col = ref.peak
+    peak = float(np.max(np.abs(image[row, col] - ref.color[row, col]))) if both[row, col] else math.nan
+    return {
+        "rmse": float(np.sqrt(np.mean(diff**2))) if diff.size else math.nan,
+        "max_error": float(diff.max()) if diff.size else math.nan,
+        "highlight_rmse": float(np.sqrt(np.mean(hdiff**2))) if hdiff.size else math.nan,
+        "peak_error": peak,
+        "pixels": int(both.sum()),
+    }
+
+
+def measure(setup: Setup, ref: Reference, prep: Prepared, method: str, *, repeats: int = 3,
+            seconds: float | None = None):
+    """One row of the study: the errors and median time of ``method`` on ``prep``.
+
+    ``seconds``, when given, is a time already measured for this method
+    (:func:`run` times the three methods in turn); otherwise it is timed here.
+
+    Returns
+    -------
+    row : dict
+        ``method``, ``resolution``, ``vertices``, ``triangles``, ``shades``
+        (shade evaluations), ``time`` (s), and the keys of :func:`errors`.
+    image : ndarray, (height, width, 3)
+        The rendered colours (NaN where the mesh is not seen).
+    """
+    if seconds is None:
+        seconds, colours = median_time(lambda: shade_method(setup, prep, method), repeats)
+    else:
+        colours = shade_method(setup, prep, method)
+    image = _image(prep.mask, colours)
+    shades = {"flat": prep.n_triangles, "gouraud": prep.n_vertices, "pixel": int(prep.mask.sum())}[method]
+    row = {
+        "method": method,
+        "resolution": prep.resolution,
+        "vertices": prep.n_vertices,
+        "triangles": prep.n_triangles,
+        "shades": shades,
+        "time": seconds,
+        **errors(ref, image, prep.mask),
+    }
+    return row, image
+
+
+def run(resolutions, *, size: int = 128, repeats: int = 3, min_seconds: float = 0.005, progress=None) -> dict:
+    """The interpolation study at the given mesh resolutions.
+
+    Each timed sample loops the method for at least ``min_seconds``; the
+    median of ``repeats`` samples is reported.
+
+    Returns
+    -------
+    dict
+        ``reference`` (what the errors are against, and its time), ``rows``
+        (one per method and resolution, see :func:`measure`).
+    """
+    setup = default_setup(size)
+    ref = reference(setup, repeats=repeats)
+    rows = []
+    for resolution in resolutions:
+        if progress:
+            progress(f"interpolation: sphere mesh at resolution {resolution}")
+        prep = prepare(setup, resolution)
+        times = interleaved_times({m: (lambda m=m: shade_method(setup, prep, m)) for m in METHODS}, repeats,
+                                  min_seconds=min_seconds)
+        for method in METHODS:
+            rows.append(measure(setup, ref, prep, method, seconds=times[method])[0])
+    return {
+        "name": "interpolation",
+        "title": "Interpolation: flat, Gouraud and per-pixel shading of a sphere mesh",
+        "reference": (f"the exact sphere shaded per pixel (exact normals, float64), "
+                      f"{size}x{size} pixels, shininess {setup.material.shininess:g}"),
+        "reference_time": ref.time,
+        "rows": rows,
+    }
+
+
+# ---------------------------------------------------------------------------
+# images for the lesson
+
+
+def _to_uint8(image, mask) -> np.ndarray:
+    rgb = np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0)
+    out = np.round(rgb * 255).astype(np.uint8)
+    out[~mask] = BACKGROUND
+    return out
+
+
+def false_colour(error, mask, *, lo: float = ERROR_RANGE[0], hi: float = ERROR_RANGE[1]) -> np.ndarray:
+    """Map per-pixel errors to RGB with a log scale and the "inferno" colour map.
+
+    ``lo`` and below are black-purple, ``hi`` and above bright yellow; pixels
+    outside ``mask`` get the background colour.
+    """
+    from matplotlib import colormaps
+
+    e = np.where(mask, error, lo)
+    t = (np.log10(np.maximum(e, lo)) - math.log10(lo)) / (math.log10(hi) - math.log10(lo))
+    rgba = colormaps["inferno"](np.clip(t, 0.0, 1.0))
+    out = np.round(rgba[..., :3] * 255).astype(np.uint8)
+    out[~mask] = BACKGROUND
+    return out
+
+
+@dataclass(frozen=True)
+class ErrorView:
+    """A render, its reference and the false-coloured difference, for display.
+
+    Attributes
+    ----------
+    method : str
+    resolution : int
+    render, reference, error : ndarray, (height, width, 3), uint8 RGB
+        The method's image, the exact sphere's image (colours clamped to
+        [0, 1]) and ``max over RGB |render − reference|`` coloured on a log
+        scale over ``error_range`` (see :func:`false_colour`).
+    error_range : (float, float)
+        The errors shown as the darkest and the brightest colour.
+    rmse, max_error, highlight_rmse, peak_error : float
+        As in :func:`errors`, on the unclamped colours.
+    time : float
+        Median seconds of the method's shading work.
+    reference_time : float
+        Median seconds of shading the reference.
+    """
+
+    method: str
+    resolution: int
+    render: np.ndarray
+    reference: np.ndarray
+    error: np.ndarray
+    error_range: tuple[float, float]
+    rmse: float
+    max_error: float
+    highlight_rmse: float
+    peak_error: float
+    time: float
+    reference_time: float
+
+
+def error_images(method: str, resolution: int, *, size: int = 256, repeats: int = 3) -> ErrorView:
+    """Render the sphere with one method and compare it with the exact sphere.
+
+    Parameters
+    ----------
+    method : {"flat", "gouraud", "pixel"}
+    resolution : int
+        The sphere mesh's resolution (segments around), 3 to 1024.
+    size : int
+        Width and height of the images in pixels, 16 to 1024.
+    repeats : int
+        Timed repeats (the median is reported).
+
+    Returns
+    -------
+    ErrorView
+
+    Examples
+    --------
+    >>> view = error_images("gouraud", 16, size=32, repeats=1)
+    >>> view.render.shape, view.error.dtype.name
+    ((32, 32, 3), 'uint8')
+    """
+    if method not in METHODS:
+        raise ValueError(f"method: must be one of {', '.join(METHODS)}, got {method!r}")
+    if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or not 3 <= resolution <= 1024:
+        raise ValueError(f"resolution: must be a whole number from 3 to 1024, got {resolution!r}")
+    if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or not 16 <= size <= 1024:
+        raise ValueError(f"size: must be a whole number from 16 to 1024, got {size!r}")
+    setup = default_setup(int(size))
+    ref = reference(setup, repeats=repeats)
+    prep = prepare(setup, int(resolution))
+    row, image = measure(setup, ref, prep, method, repeats=repeats)
+    both = prep.mask & ref.mask
+    diff = np.max(np.abs(np.nan_to_num(image) - np.nan_to_num(ref.color)), axis=-1)
+    return ErrorView(
+        method=method,
+        resolution=int(resolution),
+        render=_to_uint8(image, prep.mask),
+        reference=_to_uint8(ref.color, ref.mask),
+        error=false_colour(diff, both),
+        error_range=ERROR_RANGE,
+        rmse=row["rmse"],
+        max_error=row["max_error"],
+        highlight_rmse=row["highlight_rmse"],
+        peak_error=row["peak_error"],
+        time=row["time"],
+        reference_time=ref.time,
+    )
