@@ -1,0 +1,255 @@
+"""The common-mistake variants: each differs from the core exactly where its bug bites.
+
+Every variant runs one textbook evaluation of the model with one step
+swapped. The textbook evaluation itself must agree with the core; each
+mistake must then differ from the core on the points its bug affects, by the
+amount the wrong line predicts, and agree everywhere else.
+"""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import phonglab as pl
+from phonglab.teaching import (
+    MISTAKES,
+    get_mistake,
+    no_clamp_diffuse,
+    shade_scene,
+    textbook,
+    ungated_specular,
+    unnormalised_normals,
+    zero_shininess,
+)
+
+TERMS = ("ambient", "diffuse", "specular", "emission", "color")
+MAT = pl.Material(ka=0.2, kd=(0.8, 0.5, 0.3), ks=0.6, shininess=20.0)
+AMBIENT = pl.AmbientLight(intensity=0.25)
+EYE = (0.0, 0.0, 5.0)
+
+
+def sphere(n_theta=40, n_phi=20):
+    """Points on the unit sphere (poles excluded) with their unit normals."""
+    theta, phi = np.meshgrid(np.linspace(0, 2 * np.pi, n_theta, endpoint=False),
+                             np.linspace(0.05, np.pi - 0.05, n_phi))
+    p = np.stack([np.sin(phi) * np.cos(theta), np.cos(phi), np.sin(phi) * np.sin(theta)], axis=-1)
+    return p.reshape(-1, 3), p.reshape(-1, 3).copy()
+
+
+def assert_terms_close(got, want, where, what, terms=TERMS, atol=1e-12):
+    for term in terms:
+        a, b = np.asarray(getattr(got, term))[where], np.asarray(getattr(want, term))[where]
+        assert np.allclose(a, b, rtol=1e-9, atol=atol), (
+            f"{what}: {term} differs where it should agree; max |diff| = {np.abs(a - b).max():.3g}")
+
+
+# ---------------------------------------------------------------------------
+# the textbook evaluation is the correct model
+
+
+LIGHT_SETS = {
+    "point": [AMBIENT, pl.PointLight(position=(2, 2.5, 3))],
+    "attenuated+directional": [AMBIENT, pl.PointLight(position=(-2, 1, 2), attenuation=(1, 0.2, 0.05)),
+                               pl.DirectionalLight(direction=(1, -0.5, 0.4), color=(0.3, 0.5, 1.0))],
+    "spot": [pl.SpotLight(position=(0, 0, 3), direction=(0.1, 0, -1), cutoff=35, exponent=4, intensity=2)],
+}
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), lights=st.sampled_from(sorted(LIGHT_SETS)),
+       model=st.sampled_from(["phong", "blinn-phong"]), two_sided=st.booleans(),
+       infinite=st.booleans(), shininess=st.sampled_from([0.0, 1.0, 7.5, 40.0, 300.0]))
+def test_textbook_agrees_with_core(seed, lights, model, two_sided, infinite, shininess):
+    rng = np.random.default_rng(seed)
+    points = rng.normal(size=(64, 3))
+    normals = rng.normal(size=(64, 3)) * rng.uniform(0.2, 3.0, size=(64, 1))  # any length
+    material = pl.Material(ka=0.1, kd=(0.7, 0.4, 0.2), ks=0.5, shininess=shininess, emission=0.05)
+    viewer = {"view_direction": (0.3, 0.2, 1.0)} if infinite else {"eye": EYE}
+    args = dict(material=material, lights=LIGHT_SETS[lights], model=model, two_sided=two_sided, **viewer)
+    assert_terms_close(textbook(points, normals, **args), pl.shade(points, normals, **args), slice(None),
+                       f"textbook vs core, seed={seed} lights={lights} model={model} two_sided={two_sided} "
+                       f"viewer={viewer} shininess={shininess}")
+
+
+def test_textbook_keeps_float32():
+    p, n = sphere(8, 4)
+    s = textbook(p.astype(np.float32), n.astype(np.float32), material=MAT, lights=[AMBIENT], eye=EYE)
+    assert s.color.dtype == np.float32 and s.diffuse.dtype == np.float32, s.color.dtype
+
+
+@pytest.mark.parametrize("viewer", [{}, {"eye": EYE, "view_direction": (0, 0, 1)}], ids=["none", "both"])
+def test_needs_exactly_one_viewer(viewer):
+    p, n = sphere(8, 4)
+    with pytest.raises(ValueError, match="exactly one of eye"):
+        no_clamp_diffuse(p, n, material=MAT, lights=[AMBIENT], **viewer)
+
+
+# ---------------------------------------------------------------------------
+# each mistake, where it bites and where it does not
+
+
+def test_no_clamp_diffuse_is_negative_exactly_where_the_light_is_behind():
+    p, n = sphere()
+    light = pl.PointLight(position=(3, 1, 0))
+    args = dict(material=MAT, lights=[AMBIENT, light], eye=EYE)
+    wrong, right = no_clamp_diffuse(p, n, **args), pl.shade(p, n, **args)
+    nl = pl.dot(n, pl.normalize(np.asarray(light.position) - p))
+    behind = nl < 0
+    assert behind.sum() > 100 and (~behind).sum() > 100, "the test sphere must have both sides"
+    # where the bug bites: diffuse = k_d I_d (n·l) < 0, and the colour drops below the ambient light
+    expected = np.asarray(MAT.kd) * nl[behind, None]
+    assert np.allclose(wrong.diffuse[behind], expected, atol=1e-12), "diffuse must be k_d·(n·l) where n·l < 0"
+    assert (wrong.diffuse[behind] < 0).all()
+    assert (wrong.color[behind] < right.color[behind]).all()
+    assert (right.diffuse[behind] == 0).all()
+    # everywhere else, and for the other terms, the same as the core
+    assert_terms_close(wrong, right, ~behind, "no-clamp-diffuse on the lit side")
+    assert_terms_close(wrong, right, slice(None), "no-clamp-diffuse", terms=("ambient", "specular", "emission"))
+
+
+def test_no_clamp_diffuse_cancels_a_second_light():
+    # two lamps on opposite sides: the point facing one is darkened by the other
+    p, n = np.array([[0.0, 0, 0]]), np.array([[1.0, 0, 0]])
+    lights = [pl.DirectionalLight(direction=(1, 0, 0)), pl.DirectionalLight(direction=(-1, 0, 0))]
+    wrong = no_clamp_diffuse(p, n, material=MAT, lights=lights, eye=(0, 0, 5))
+    right = pl.shade(p, n, material=MAT, lights=lights, eye=(0, 0, 5))
+    assert np.allclose(right.diffuse, [MAT.kd]), right.diffuse
+    assert np.allclose(wrong.diffuse, 0, atol=1e-15), f"+k_d and -k_d should cancel, got {wrong.diffuse}"
+
+
+def test_ungated_specular_lights_points_the_light_cannot_reach():
+    # the hand-worked case: n·l = -0.8 and still r·v = 0.8
+    p, n = np.array([[0.0, 0, 0]]), np.array([[0.0, 0, 1]])
+    args = dict(material=MAT, lights=[pl.PointLight(position=(0, 3, -4))], eye=(0, 0, -5))
+    wrong, right = ungated_specular(p, n, **args), pl.shade(p, n, **args)
+    assert np.all(right.specular == 0), right.specular
+    assert np.allclose(wrong.specular, 0.6 * 0.8**20, rtol=1e-12), f"want k_s·0.8^20, got {wrong.specular}"
+
+
+@pytest.mark.parametrize("model", ["phong", "blinn-phong"])
+def test_ungated_specular_differs_only_on_the_unlit_side(model):
+    p, n = sphere(64, 32)
+    light = pl.PointLight(position=(-3, 2, -3))  # behind and to the left: a lit crescent
+    material = pl.Material(ka=0.1, kd=0.5, ks=0.6, shininess=5)
+    args = dict(material=material, lights=[light], eye=EYE, model=model)
+    wrong, right = ungated_specular(p, n, **args), pl.shade(p, n, **args)
+    nl = pl.dot(n, pl.normalize(np.asarray(light.position) - p))
+    unlit = nl <= 0
+    extra = wrong.specular[..., 0] - right.specular[..., 0]
+    assert (extra[unlit] > 0.05).sum() > 5, f"{model}: no highlight leaked onto the unlit side"
+    assert np.all(right.specular[unlit] == 0)
+    assert_terms_close(wrong, right, ~unlit, f"ungated-specular ({model}) on the lit side")
+    assert_terms_close(wrong, right, slice(None), "ungated-specular", terms=("ambient", "diffuse", "emission"))
+
+
+def test_unnormalised_normals_agree_for_unit_normals():
+    p, n = sphere()
+    args = dict(material=MAT, lights=LIGHT_SETS["attenuated+directional"], eye=EYE)
+    assert_terms_close(unnormalised_normals(p, n, **args), pl.shade(p, n, **args), slice(None),
+                       "unnormalised-normals with unit normals")
+
+
+@pytest.mark.parametrize("length", [0.5, 0.87, 0.99])
+def test_unnormalised_normals_scale_the_diffuse_light_by_the_normal_length(length):
+    p, n = sphere()
+    light = pl.DirectionalLight(direction=(1, 1, 2))
+    args = dict(material=MAT, lights=[AMBIENT, light], eye=EYE)
+    wrong, right = unnormalised_normals(p, n * length, **args), pl.shade(p, n * length, **args)
+    lit = right.diffuse[..., 0] > 1e-3
+    ratio = wrong.diffuse[lit] / right.diffuse[lit]
+    assert np.allclose(ratio, length, rtol=1e-9), f"diffuse must shrink by |n| = {length}: {ratio.min()}..{ratio.max()}"
+    assert_terms_close(wrong, right, slice(None), "unnormalised-normals", terms=("ambient", "emission"))
+
+
+def test_unnormalised_normals_darken_the_middle_of_triangles():
+    # a coarse octahedral patch: vertex normals 90° apart, blended at the centroid
+    n0, n1, n2 = np.eye(3)
+    corners = np.stack([n0, n1, n2])
+    centroid_normal = corners.mean(axis=0)  # length 1/sqrt(3), not renormalised
+    points = np.vstack([corners, centroid_normal[None, :]])  # positions do not matter for a directional light
+    normals = np.vstack([corners, centroid_normal[None, :]])
+    args = dict(material=MAT, lights=[pl.DirectionalLight(direction=(1, 1, 1))], view_direction=(1, 1, 1))
+    wrong, right = unnormalised_normals(points, normals, **args), pl.shade(points, normals, **args)
+    assert np.allclose(wrong.color[:3], right.color[:3]), "corners (unit normals) must agree"
+    assert wrong.diffuse[3, 0] < 0.6 * right.diffuse[3, 0], (
+        f"the centre must be darker: wrong {wrong.diffuse[3]}, right {right.diffuse[3]}")
+
+
+def test_zero_shininess_washes_out_the_whole_lit_side():
+    p, n = sphere()
+    light = pl.PointLight(position=(2, 2.5, 3))
+    args = dict(material=MAT, lights=[AMBIENT, light], eye=EYE)
+    wrong, right = zero_shininess(p, n, **args), pl.shade(p, n, **args)
+    nl = pl.dot(n, pl.normalize(np.asarray(light.position) - p))
+    lit = nl > 0
+    # the wrong line: max(0, r·v)^0 = 1 at every lit point, 0 elsewhere
+    assert np.allclose(wrong.specular[lit], MAT.ks, atol=1e-15), "specular must be the full k_s on the lit side"
+    assert np.all(wrong.specular[~lit] == 0)
+    away = lit & (right.specular[..., 0] < 0.01)
+    assert away.sum() > 100, "most of the lit side is far from the highlight"
+    assert_terms_close(wrong, right, slice(None), "zero-shininess", terms=("ambient", "diffuse", "emission"))
+
+
+def test_zero_shininess_is_the_core_at_alpha_0_where_r_v_is_positive():
+    # the core's own convention for α = 0 is 1 where n·l > 0 and r·v > 0; the mistake also lights r·v <= 0
+    p, n = sphere()
+    light = pl.PointLight(position=(2, 2.5, 3))
+    zero = pl.Material(ka=MAT.ka, kd=MAT.kd, ks=MAT.ks, shininess=0)
+    core0 = pl.shade(p, n, material=zero, lights=[light], eye=EYE)
+    wrong = zero_shininess(p, n, material=MAT, lights=[light], eye=EYE)
+    rv = pl.dot(pl.reflect(pl.normalize(np.asarray(light.position) - p), n), pl.normalize(np.asarray(EYE) - p))
+    nl = pl.dot(n, pl.normalize(np.asarray(light.position) - p))
+    both = (nl > 0) & (rv > 0)
+    only_mistake = (nl > 0) & (rv <= 0)
+    assert np.allclose(wrong.specular[both], core0.specular[both])
+    assert only_mistake.sum() > 0 and np.all(core0.specular[only_mistake] == 0)
+    assert np.allclose(wrong.specular[only_mistake], MAT.ks)
+
+
+# ---------------------------------------------------------------------------
+# the registry and the scene helper
+
+
+def test_registry_names_each_variant():
+    assert set(MISTAKES) == {"no-clamp-diffuse", "ungated-specular", "unnormalised-normals", "zero-shininess"}
+    expected = {"no-clamp-diffuse": no_clamp_diffuse, "ungated-specular": ungated_specular,
+                "unnormalised-normals": unnormalised_normals, "zero-shininess": zero_shininess}
+    for name, mistake in MISTAKES.items():
+        assert mistake.name == name and mistake.shade is expected[name], name
+        assert mistake.title and mistake.looks_like and mistake.wrong != mistake.right, name
+        doc = mistake.shade.__doc__
+        assert "What is wrong" in doc and "correct line" in doc, f"{name}: docstring must say both"
+    assert [m.name for m in MISTAKES.values() if m.needs_raw_normals] == ["unnormalised-normals"]
+
+
+def test_unknown_mistake_names_the_allowed_ones():
+    with pytest.raises(ValueError) as err:
+        get_mistake("no-clamp-difuse")
+    text = str(err.value)
+    assert "no-clamp-difuse" in text and '"zero-shininess"' in text and 'did you mean "no-clamp-diffuse"' in text, text
+
+
+@pytest.mark.parametrize("infinite", [False, True])
+def test_shade_scene_uses_the_scene_and_the_named_variant(infinite):
+    from phonglab.scene import Camera, Geometry, Scene
+    from phonglab.scene import shade as scene_shade
+
+    scene = Scene(Geometry("sphere"), MAT, (AMBIENT, pl.PointLight(position=(3, 1, 0))),
+                  Camera(eye=(0, 0, 5), infinite_viewer=infinite), model="blinn-phong", two_sided=True)
+    p, n = sphere()
+    viewer = {"view_direction": scene.camera.view_direction} if infinite else {"eye": scene.camera.eye}
+    args = dict(material=MAT, lights=scene.lights, model="blinn-phong", two_sided=True, **viewer)
+    assert_terms_close(shade_scene(scene, p, n), scene_shade(scene, p, n), slice(None), "no mistake")
+    assert_terms_close(shade_scene(scene, p, n, "no-clamp-diffuse"), no_clamp_diffuse(p, n, **args), slice(None),
+                       "no-clamp-diffuse through shade_scene")
+    assert (shade_scene(scene, p, n, "no-clamp-diffuse").diffuse < 0).any()
+
+
+def test_core_never_imports_the_teaching_module():
+    code = "import sys, phonglab.core, phonglab.scene; print(sorted(m for m in sys.modules if 'teaching' in m))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "[]", f"phonglab.core/scene pulled in {out}"
