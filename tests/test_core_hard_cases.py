@@ -269,3 +269,14 @@ def test_eye_exactly_on_the_shaded_point_gives_no_specular(dtype, model):
                  material=pl.Material(ka=0, kd=1, ks=1, shininess=1), lights=[pl.PointLight(position=(0, 0, 3))])
     assert np.isfinite(s.color).all()
     assert (s.specular[0] == 0).all() and s.diffuse[0, 0] == pytest.approx(1.0), (dtype, model, s.specular)
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+def test_normalize_of_a_vector_does_not_depend_on_its_neighbours(dtype):
+    # one extreme vector in a block must not change how the ordinary ones round
+    ordinary = np.array([[0.3, -0.4, 1.2], [1.0, 2.0, 3.0]], dtype)
+    extreme = np.array([[np.finfo(dtype).smallest_subnormal, 0, 0]], dtype)
+    alone = pl.normalize(ordinary)
+    mixed = pl.normalize(np.concatenate([ordinary, extreme]))
+    np.testing.assert_array_equal(mixed[:2], alone)
+    np.testing.assert_array_equal(mixed[2], [1, 0, 0])

@@ -4,7 +4,7 @@ A point light is an idealisation: real lamps have a size. This module
 computes the light a *finite* rectangle sends to a diffuse surface four ways,
 so their accuracy and cost can be compared:
 
-- :func:`irradiance` with ``method="exact"``: the closed form for a polygon
+- :func:`area_irradiance` with ``method="exact"``: the closed form for a polygon
   (Lambert's formula, see :func:`polygon_irradiance`), exact up to rounding;
 - ``method="point"``: the whole light concentrated at its centre;
 - ``method="uniform"``: a Monte Carlo estimate from ``N`` points drawn
@@ -39,12 +39,12 @@ __all__ = [
     "AREA_METHODS",
     "AreaLight",
     "polygon_irradiance",
-    "irradiance",
+    "area_irradiance",
     "area_diffuse",
     "strata_shape",
 ]
 
-#: methods of :func:`irradiance`, cheapest first
+#: methods of :func:`area_irradiance`, cheapest first
 AREA_METHODS = ("point", "uniform", "stratified", "exact")
 
 #: Monte Carlo evaluates at most this many (point, sample) pairs at once
@@ -299,7 +299,7 @@ def _monte_carlo(light: AreaLight, x, n, samples: int, stratified: bool, rng):
     return total * (light.area / samples)
 
 
-def irradiance(light: AreaLight, points, normals, *, method: str = "exact", samples: int = 64, seed=None):
+def area_irradiance(light: AreaLight, points, normals, *, method: str = "exact", samples: int = 64, seed=None):
     """Irradiance ``E`` from an area light at surface points, by one of four methods.
 
     Parameters
@@ -374,7 +374,7 @@ def area_diffuse(points, normals, *, material: Material, light: AreaLight, metho
         Only ``kd`` is used.
     light : AreaLight
     method, samples, seed
-        As in :func:`irradiance`.
+        As in :func:`area_irradiance`.
 
     Returns
     -------
@@ -389,6 +389,6 @@ def area_diffuse(points, normals, *, material: Material, light: AreaLight, metho
     the area light's counterpart of ``k_d ∘ I_d max(0, n·l) f`` for a point
     light with inverse-square attenuation ``f = 1/d²``.
     """
-    e = irradiance(light, points, normals, method=method, samples=samples, seed=seed)
+    e = area_irradiance(light, points, normals, method=method, samples=samples, seed=seed)
     rgb = np.asarray(material.kd) * np.asarray(light.color)
     return e[..., None] * rgb.astype(e.dtype)

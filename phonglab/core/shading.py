@@ -389,31 +389,32 @@ def shade(
 
     const = _Constants(material, lights, plan, eye, view_direction, dtype)
     no_term = np.zeros(3, dtype)
-    diffuse = np.empty((n_points, 3), dtype) if plan.diffuse else None
-    specular = np.empty((n_points, 3), dtype) if plan.specular else None
-    base = const.ambient + const.emission  # the same at every point
-    color = np.empty((n_points, 3), dtype)
+    # results are held channel first, (3, n): every write below is a contiguous row
+    diffuse = np.empty((3, n_points), dtype) if plan.diffuse else None
+    specular = np.empty((3, n_points), dtype) if plan.specular else None
+    base = (const.ambient + const.emission)[:, None]  # the same at every point
+    color = np.empty((3, n_points), dtype)
     if plan.lights:
         for start in range(0, n_points, CHUNK):
             stop = min(start + CHUNK, n_points)
-            d = None if diffuse is None else diffuse[start:stop]
-            s = None if specular is None else specular[start:stop]
+            d = None if diffuse is None else diffuse[:, start:stop]
+            s = None if specular is None else specular[:, start:stop]
             _shade_block(P[start:stop], N[start:stop], const, plan, model, d, s)
             # colour = (diffuse + specular) + (ambient + emission), while the block is in cache
-            _add_color(d, s, base, color[start:stop])
+            _add_color(d, s, base, color[:, start:stop])
     else:
-        _fill_rows(color, base)
+        color[...] = base
 
     def per_point(term, rgb):
-        # terms that are constant (or skipped) are read-only broadcast views
-        return np.broadcast_to(rgb, shape) if term is None else term.reshape(shape)
+        # (3, n) -> (..., 3) views; constant or skipped terms are read-only broadcast views
+        return np.broadcast_to(rgb, shape) if term is None else term.T.reshape(shape)
 
     return Shading(
         ambient=per_point(None, const.ambient),
         diffuse=per_point(diffuse, no_term),
         specular=per_point(specular, no_term),
         emission=per_point(None, const.emission),
-        color=color.reshape(shape),
+        color=per_point(color, None),
     )
 
 
@@ -443,13 +444,14 @@ class _Constants:
         for lp in plan.lights:
             lt = lights[lp.index]
             item = {"plan": lp}
-            item["kd_id"] = (kd * np.asarray(lt.diffuse_rgb)).astype(dtype) if plan.diffuse else None
-            item["ks_is"] = (ks * np.asarray(lt.specular_rgb)).astype(dtype) if plan.specular else None
+            item["kd_id"] = (kd * np.asarray(lt.diffuse_rgb)).astype(dtype)[:, None] if plan.diffuse else None
+            item["ks_is"] = (ks * np.asarray(lt.specular_rgb)).astype(dtype)[:, None] if plan.specular else None
             if isinstance(lt, DirectionalLight):
                 item["l"] = _unit(lt.direction, dtype)
                 item["h"] = None
                 if plan.constant_view and lp.constant_l:
-                    item["h"] = normalize_c(item["l"] + self.view)[0]
+                    item["l+v"] = item["l"] + self.view
+                    item["h"] = normalize_c(item["l+v"])[0]
                     item["h_zero"] = not item["h"].any()  # l = −v
             else:
                 item["position"] = np.asarray(lt.position, dtype)[:, None]
@@ -550,66 +552,58 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
             _accumulate(diffuse_out, w, item["kd_id"], first)
 
         if plan.specular:
-            # specular, gated by n·l > 0 and by cos > 0, i.e. d = 1 − cos < 1
-            if model == "phong":
-                a = reflect_c(l, n, nl)
-                b, b_zero = v, v_zero
-            else:
-                b = item.get("h")
-                b_zero = item.get("h_zero", False)
-                if b is None:
-                    b, h_len = normalize_c(np.add(l, v))
-                    b_zero = h_len.min() == 0  # l = −v: no half vector
-                a = n
-            d = one_minus_cos_c(a, b)
-            lit &= d < 1
-            if b_zero:  # a zero v or h gives d = 1/2: gate it out explicitly
-                lit &= dot_c(b, b) > zero
-            if v_zero and model != "phong":  # h = l where v = 0: still no viewer
-                lit &= v_len > zero
-            t = cos_power(d, lit, const.shininess)
+            t = _specular_power(n, l, v, nl, lit, item, const, model, v_zero, v_len)
             if f is not None:
                 t *= f
             _accumulate(specular_out, t, item["ks_is"], first)
         first = False
 
 
+def _specular_power(n, l, v, nl, lit, item, const, model, v_zero, v_len):
+    """``max(0, r·v)^α`` or ``max(0, n·h)^α``, exactly 0 where not ``lit`` (n·l > 0)."""
+    dtype = const.dtype
+    zero = dtype.type(0)
+    # specular, gated by n·l > 0 and by cos > 0, i.e. d = 1 − cos < 1
+    if model == "phong":
+        # 1 − r·v = |r − v|²/2 with r − v = 2(n·l)n − (l + v)
+        lv = item.get("l+v")
+        a = np.multiply(nl + nl, n)
+        a -= np.add(l, v) if lv is None else lv
+        d = dot_c(a, a)
+        d *= dtype.type(0.5)
+        b, b_zero = v, v_zero
+    else:
+        b = item.get("h")
+        b_zero = item.get("h_zero", False)
+        if b is None:
+            b, h_len = normalize_c(np.add(l, v))
+            b_zero = h_len.min() == 0  # l = −v: no half vector
+        d = one_minus_cos_c(n, b)
+    lit &= d < 1
+    if b_zero:  # a zero v or h gives d = 1/2: gate it out explicitly
+        lit &= dot_c(b, b) > zero
+    if v_zero and model != "phong":  # h = l where v = 0: still no viewer
+        lit &= v_len > zero
+    return cos_power(d, lit, const.shininess)
+
+
 def _accumulate(out, weight, rgb, first):
-    """``out (n, 3) (+)= weight (n,) ⊗ rgb (3,)``: one light's term, per channel.
-
-    One channel at a time: a column of ``out`` is a strided row for NumPy's
-    inner loop, ten times faster than broadcasting over a last axis of 3.
-    """
-    for k in range(3):
-        if first:
-            np.multiply(weight, rgb[k], out=out[:, k])
-        else:
-            out[:, k] += weight * rgb[k]
-
-
-def _fill_rows(out, row):
-    """Every row of ``out (n, 3)`` set to ``row``, at memory-copy speed.
-
-    One block of the repeated pattern is made once and copied flat, instead
-    of broadcasting over a last axis of 3 (several times slower).
-    """
-    flat = out.reshape(-1)
-    block = np.tile(row.astype(out.dtype), min(CHUNK, len(out)))
-    for start in range(0, flat.size, block.size):
-        stop = min(start + block.size, flat.size)
-        flat[start:stop] = block[: stop - start]
+    """``out (3, n) (+)= rgb (3, 1) · weight (n,)``: one light's term, per channel."""
+    if first:
+        np.multiply(rgb, weight, out=out)
+    else:
+        out += rgb * weight
 
 
 def _add_color(diffuse, specular, base, color_out):
-    """``color = (diffuse + specular) + base`` for one block of (n, 3) arrays."""
+    """``color = (diffuse + specular) + base`` for one block of (3, n) arrays."""
     terms = [t for t in (diffuse, specular) if t is not None]
     if len(terms) == 2:
-        np.add(diffuse.reshape(-1), specular.reshape(-1), out=color_out.reshape(-1))
+        np.add(diffuse, specular, out=color_out)
     else:
         np.copyto(color_out, terms[0])
-    for k in range(3):
-        if base[k]:
-            color_out[:, k] += base[k]
+    if base.any():
+        color_out += base
 
 
 # ---------------------------------------------------------------------------

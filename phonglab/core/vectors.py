@@ -52,10 +52,11 @@ def normalize_c(v, *, out=None):
     """Unit vectors and lengths of components-first vectors ``(3, ...)``.
 
     Returns ``(unit, length)``. Zero vectors give a zero unit vector and length 0.
-    When every sum of squares is safely inside the float range the direct
-    formula is used; otherwise the whole block is rescaled by its largest
-    component first, so 1e±20 (float32), 1e±160 (float64) and subnormal
-    vectors normalise to full precision.
+    Vectors whose sum of squares is safely inside the float range use the
+    direct formula; the others (1e±20 in float32, 1e±160 in float64,
+    subnormal, zero) are rescaled by their largest component first. The
+    choice is made per vector, so a vector's result never depends on which
+    other vectors share the call.
     """
     v = np.asarray(v)
     x, y, z = v[0], v[1], v[2]
@@ -64,11 +65,20 @@ def normalize_c(v, *, out=None):
     ss += z * z
     lo, hi = _fast_range(v.dtype)
     if ss.size == 0 or (ss.min() > lo and ss.max() < hi):
-        # direct: |v| = sqrt(x² + y² + z²)
+        # direct: |v| = sqrt(x² + y² + z²) everywhere
         length = np.sqrt(ss, out=ss if isinstance(ss, np.ndarray) else None)
-        inv = np.reciprocal(length)
-        return np.multiply(v, inv, out=out), length
-    return _normalize_scaled_c(v, out=out)
+        return np.multiply(v, np.reciprocal(length), out=out), length
+    if v.ndim == 1:
+        return _normalize_scaled_c(v, out=out)
+    # the direct formula where it is safe, rescaling only the other vectors
+    bad = ~((ss > lo) & (ss < hi))
+    fixed, fixed_length = _normalize_scaled_c(v[:, bad])  # before out= may overwrite v
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        length = np.sqrt(ss)
+        unit = np.multiply(v, np.reciprocal(length), out=out)
+    unit[:, bad] = fixed
+    length[bad] = fixed_length
+    return unit, length
 
 
 def _normalize_scaled_c(v, *, out=None):
@@ -104,24 +114,26 @@ def one_minus_cos_c(a, b):
 
 
 def log1p_neg(d, *, out=None):
-    """``log(1 − d)`` for ``d`` in [0, 1], accurate to a few ulps even for tiny ``d``.
+    """``log(1 − d)`` for ``d`` in [0, 1], accurate to 2 ulps even for tiny ``d``.
 
     Notes
     -----
-    With ``u = 1 − d`` rounded, ``log(u)·d / (1 − u)`` corrects the rounding
-    of ``u`` exactly to first order, so the result keeps the relative
-    precision of ``d`` (within 2 ulps, checked against mpmath); where ``u``
-    rounds to 1 the answer is ``−d``. It uses NumPy's vectorised ``log``,
-    several times faster than ``np.log1p`` on float32. ``d = 1`` gives −inf.
+    With ``u = fl(1 − d)``, the rounding error ``c = (1 − u) − d`` is exact
+    (both subtractions are exact by Sterbenz's lemma where ``u ≥ 1/2``, and
+    ``u`` is exact below), and
+
+    .. math:: \\log(1 - d) = \\log(u + c) \\approx \\log u + c
+
+    loses only ``c·d``, far below an ulp of the result. It uses NumPy's
+    vectorised ``log``, several times faster than ``np.log1p`` on float32;
+    checked against mpmath to 2 ulps. ``d = 1`` gives −inf.
     """
     u = np.subtract(1, d, dtype=d.dtype)
-    den = np.subtract(1, u)  # d as seen through the rounding of u
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.log(u, out=out)
-        out *= d
-        out /= den
-    # u rounded to 1: log1p(−d) = −d to within an ulp
-    np.negative(d, out=out, where=den == 0)
+    c = np.subtract(1, u)
+    c -= d  # the rounding error of u
+    with np.errstate(divide="ignore"):
+        out = np.log(u, out=out if out is not None else u)
+    out += c
     return out
 
 
