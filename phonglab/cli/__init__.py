@@ -61,7 +61,9 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return 2
     try:
-        return int(_load(args.command).run(args) or 0)
+        status = int(_load(args.command).run(args) or 0)
+        sys.stdout.flush()  # a closed pipe shows here, inside the handler below
+        return status
     except UsageError as exc:
         print(f"phonglab {args.command}: error: {exc}", file=sys.stderr)
         return 2
