@@ -1,0 +1,83 @@
+"""The browser side of the app: phonglab's Vue plugin and the colour push.
+
+A slider that changes only the material re-shades the mesh but moves
+nothing: only the mesh's colour array differs. trame-vtk's
+``VtkLocalView.update()`` would serialise the whole scene twice (a delta for
+the browser and a full state for late joiners), hash every array again, and
+the browser would then ask for the new array in a second round trip. Instead
+the server puts the new colour bytes in one state variable, and the
+``<phonglab-colors>`` component (``www/phonglab.js``), placed inside the local
+view, writes them into the browser's copy of that array and re-renders.
+
+The server's render window keeps the same colours (the render layer updates
+its array in place), so any later full synchronisation agrees with what the
+browser shows.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from trame_client.widgets.core import AbstractElement
+
+#: folder served to the browser under ``/__phonglab``
+WWW = Path(__file__).with_name("www")
+
+#: trame module: serve ``www/`` and load ``phonglab.js`` as the Vue plugin ``window.phonglab``
+MODULE = {
+    "serve": {"__phonglab": str(WWW)},
+    "scripts": ["__phonglab/phonglab.js"],
+    "styles": ["__phonglab/phonglab.css"],
+    "vue_use": ["phonglab"],
+}
+
+
+class ColorPush(AbstractElement):
+    """``<phonglab-colors>``: applies colour pushes to the enclosing local view.
+
+    Parameters
+    ----------
+    push : tuple
+        The state binding, e.g. ``("view_colors", None)``.
+    """
+
+    def __init__(self, **kwargs):
+        super().__init__("phonglab-colors", **kwargs)
+        if self.server:
+            self.server.enable_module(MODULE)
+        self._attr_names += ["push"]
+
+
+def dataset_id(mapper) -> str:
+    """The id under which trame-vtk registers a mapper's input in the browser.
+
+    trame-vtk names a mapper's dataset ``"<mapper reference id>-dataset"``.
+    """
+    from trame_vtk.modules.vtk.serializers.utils import reference_id
+
+    return f"{reference_id(mapper)}-dataset"
+
+
+def color_payload(mapper, colors: np.ndarray, *, name: str, location: str) -> dict:
+    """The state value for :class:`ColorPush`: which array, and its new bytes.
+
+    Parameters
+    ----------
+    mapper : vtkMapper
+        The mapper whose input holds the array.
+    colors : ndarray
+        The array's new values, in the array's own dtype and layout.
+    name : str
+        The array's name.
+    location : {"point", "cell"}
+        Point or cell data.
+    """
+    if location not in ("point", "cell"):
+        raise ValueError(f"location must be 'point' or 'cell', got {location!r}")
+    return {
+        "dataset": dataset_id(mapper),
+        "name": name,
+        "location": location,
+        "data": np.ascontiguousarray(colors).tobytes(),
+    }
