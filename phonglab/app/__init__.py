@@ -1,1 +1,62 @@
-"""phonglab.app"""
+"""phonglab.app: the browser lesson app (trame).
+
+``phonglab serve`` runs :func:`serve`: one web server on 127.0.0.1, one
+:class:`~phonglab.app.lesson_app.LessonApp` per browser tab
+(:class:`~phonglab.app.server.SessionServer`), so two students never move
+each other's sliders.
+
+Importing this package is cheap; trame, VTK and the render layer are loaded
+when :func:`serve` or :func:`make_app` runs.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from pathlib import Path
+
+__all__ = ["make_app", "serve"]
+
+
+def make_app(target, *, export_dir="phonglab-exports"):
+    """A factory ``name -> LessonApp`` for :class:`~phonglab.app.server.SessionServer`.
+
+    Parameters
+    ----------
+    target : path
+        A lessons folder, a lesson (``.md``) or a scene (``.toml``).
+    export_dir : path
+        Where the page's export button writes figures.
+    """
+    from trame.app import get_server
+
+    from phonglab.app.lesson_app import LessonApp
+
+    target = Path(target)
+
+    def build(name):
+        server = get_server(name, client_type="vue3")
+        return LessonApp(server, target=target, export_dir=export_dir)
+
+    return build
+
+
+def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phonglab-exports", on_ready=None) -> None:
+    """Serve the lessons at ``target`` until interrupted.
+
+    Parameters
+    ----------
+    target : path
+        A lessons folder, a lesson file or a scene file.
+    host, port
+        Where to listen (127.0.0.1 by default: this machine only; port 0 picks one).
+    export_dir : path
+        Where the export button writes figures.
+    on_ready : callable, optional
+        Called with the bound port once the server accepts connections.
+    """
+    from phonglab.app.server import SessionServer
+
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    server = SessionServer(make_app(target, export_dir=export_dir))
+    asyncio.run(server.run(host, port, on_ready=on_ready))

@@ -1,0 +1,569 @@
+"""The page's controls: which widget edits which scene field, and how.
+
+A :class:`Control` reads its widget's value from a scene (:meth:`Control.read`)
+and writes a widget value back into a new scene (:meth:`Control.apply`). Every
+value that arrives from the browser goes through :meth:`Control.apply`, which
+checks its type and range first and then lets the scene check the result
+(:meth:`phonglab.scene.Scene.replace`), so a refused value raises
+:class:`ControlError` naming the control, the value and what is allowed, and
+the previous scene stays.
+
+Most controls edit a scene field directly (``material.shininess``,
+``lights[1].attenuation[0]``, ``model``). A few present a field the way a
+student thinks of it and are named like fields (see :mod:`phonglab.app.keys`):
+
+* ``material.kd.level`` and ``material.kd.color``: an RGB coefficient as a
+  strength (its largest channel, a slider) times a hue (a colour picker);
+* ``lights[i].azimuth`` / ``elevation`` / ``distance``: a light's place
+  around the scene's focal point (azimuth from +z towards +x about the up
+  axis +y, elevation above the xz plane, both in degrees). For a directional
+  light azimuth and elevation give the direction towards the light;
+* ``lights[i].type``: point, directional or spot; the light keeps its place;
+* ``view.term``: which term the mesh shows (a view option, not a scene field).
+
+``material.shininess.log`` is the shininess slider: ``log10(α)`` from 0 to 3
+(α from 1 to 1000).
+
+Besides the widgets, :func:`field_mirrors` gives a state key per scene field
+(``material__ks``, ``lights_1__position``) holding the field's value in its
+file form; a value written there is checked like any other.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import numbers
+import re
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from phonglab import core
+from phonglab.app.keys import state_key
+from phonglab.scene import SceneError
+from phonglab.scene import field_value as _scene_field_value
+from phonglab.scene.fieldpath import parse_path, scene_to_dict
+
+#: the last scene read and its file form (reading every widget reuses one dict)
+_last_dict: list = [None, None]
+
+
+def field_value(scene, path: str):
+    """The value at ``path`` in the scene's file form, as :func:`phonglab.scene.field_value`.
+
+    Simple paths (names and indices that exist) are read from one cached
+    dictionary per scene; anything else goes to the scene layer, which also
+    produces its errors.
+    """
+    if _last_dict[0] is not scene:
+        _last_dict[0], _last_dict[1] = scene, scene_to_dict(scene)
+    node = _last_dict[1]
+    try:
+        for part in parse_path(path):
+            node = node[part]
+    except (KeyError, IndexError, TypeError, SceneError):
+        return _scene_field_value(scene, path)
+    return copy.deepcopy(node) if isinstance(node, (dict, list)) else node
+
+#: term view choices: value shown by the view -> label
+TERMS = (("color", "All terms"), ("ambient", "Ambient"), ("diffuse", "Diffuse"), ("specular", "Specular"))
+#: light types a light control can switch between (ambient lights keep their type)
+LIGHT_TYPES = (("point", "Point"), ("directional", "Directional"), ("spot", "Spot"))
+MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"))
+INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)"), ("pixel", "Per pixel"))
+#: the shininess slider spans α = 10**0 .. 10**3
+SHININESS_LOG_RANGE = (0.0, 3.0)
+#: spotlight defaults when a light becomes a spot
+SPOT_DEFAULTS = {"cutoff": 25.0, "exponent": 2.0}
+
+_HEX = re.compile(r"#[0-9a-fA-F]{6}")
+
+
+class ControlError(ValueError):
+    """A browser value was refused; the message says which control, the value and what is allowed."""
+
+
+@dataclass(frozen=True)
+class Control:
+    """One widget on the page and the scene field behind it.
+
+    Attributes
+    ----------
+    path : str
+        The field path the widget edits (a scene field or one of the
+        presentation fields listed in the module docstring).
+    label : str
+        The widget's label; may hold ``$...$`` maths.
+    kind : str
+        ``"slider"``, ``"color"``, ``"select"``, ``"switch"``, or ``"value"``
+        (no widget: the state key mirrors a scene field in its file form).
+    low, high, step : float
+        Slider range and step (in widget units: ``log10 α`` for shininess).
+    items : tuple of (value, title)
+        Choices of a select.
+    read : callable
+        ``read(scene, view_options) -> widget value``.
+    write : callable
+        ``write(scene, widget value, view_options) -> (scene, view_options)``;
+        the value has passed the type and range checks already.
+    unit : str
+        Shown after a slider's value ("°").
+    fmt : str
+        How the widget value is shown; ``"alpha"`` shows ``10**value``.
+    """
+
+    path: str
+    label: str
+    kind: str
+    read: Callable
+    write: Callable
+    low: float = 0.0
+    high: float = 1.0
+    step: float = 0.01
+    items: tuple = ()
+    unit: str = ""
+    fmt: str = "{:.2f}"
+    group: str = ""
+
+    @property
+    def key(self) -> str:
+        """The trame state key (:func:`phonglab.app.keys.state_key`)."""
+        return state_key(self.path)
+
+    def check(self, value):
+        """The browser value as the widget's type, or :class:`ControlError`."""
+        if self.kind == "slider":
+            if not isinstance(value, numbers.Real) or isinstance(value, bool):
+                raise ControlError(f"{self.path}: must be a number, got {_show(value)}")
+            value = float(value)
+            if not math.isfinite(value):
+                raise ControlError(f"{self.path}: must be a finite number, got {_show(value)}")
+            slack = 1e-9 * max(1.0, abs(self.high - self.low))
+            if not (self.low - slack <= value <= self.high + slack):
+                raise ControlError(
+                    f"{self.path}: must be between {self.low:g} and {self.high:g}, got {_show(value)}"
+                )
+            return min(max(value, self.low), self.high)
+        if self.kind == "switch":
+            if not isinstance(value, bool):
+                raise ControlError(f"{self.path}: must be true or false, got {_show(value)}")
+            return value
+        if self.kind == "select":
+            allowed = [v for v, _ in self.items]
+            if not isinstance(value, str) or value not in allowed:
+                raise ControlError(f"{self.path}: must be one of {', '.join(allowed)}, got {_show(value)}")
+            return value
+        if self.kind == "value":
+            return _check_plain(self.path, value)
+        if self.kind == "color":
+            if not isinstance(value, str) or not _HEX.fullmatch(value.strip()):
+                raise ControlError(f"{self.path}: must be a colour #rrggbb, got {_show(value)}")
+            return value.strip().lower()
+        raise AssertionError(self.kind)
+
+    def apply(self, scene, value, options: dict):
+        """Check ``value`` and return ``(new scene, new view options)``.
+
+        Raises
+        ------
+        ControlError
+            The value's type or range is wrong, or the scene refuses the result.
+        """
+        value = self.check(value)
+        try:
+            return self.write(scene, value, dict(options))
+        except SceneError as exc:
+            raise ControlError(f"{self.path}: {_scene_reason(exc)}") from None
+        except (ValueError, TypeError, ArithmeticError) as exc:  # core validation
+            raise ControlError(f"{self.path}: {exc}") from None
+
+    def same(self, a, b) -> bool:
+        """Whether two widget values mean the same setting (sliders: within half a step)."""
+        if self.kind == "slider":
+            try:
+                return abs(float(a) - float(b)) <= 0.5 * self.step
+            except (TypeError, ValueError):
+                return False
+        return a == b
+
+    def describe(self, scene, options) -> dict:
+        """The widget as plain data for the page template."""
+        spec = {
+            "key": self.key,
+            "path": self.path,
+            "label": self.label,
+            "kind": self.kind,
+            "low": self.low,
+            "high": self.high,
+            "step": self.step,
+            "items": [{"value": v, "title": t} for v, t in self.items],
+            "unit": self.unit,
+            "fmt": self.fmt,
+            "group": self.group,
+        }
+        return spec
+
+
+def _check_plain(path, value, depth=0):
+    """A file-form value (number, bool, string, list of those); ControlError otherwise.
+
+    The scene checks the meaning; this only keeps odd objects out.
+    """
+    if isinstance(value, (bool, str)) or (isinstance(value, numbers.Real)):
+        if isinstance(value, str) and len(value) > 200:
+            raise ControlError(f"{path}: text too long ({len(value)} characters)")
+        return value
+    if isinstance(value, (list, tuple)) and depth == 0 and len(value) <= 4:
+        return [_check_plain(path, v, 1) for v in value]
+    if value is None and path == "probe":
+        return None
+    raise ControlError(f"{path}: must be a number, true/false, a text or a short list, got {_show(value)}")
+
+
+def _show(value) -> str:
+    if isinstance(value, str):
+        return repr(value[:60])
+    if isinstance(value, float) and math.isnan(value):
+        return "NaN"
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _scene_reason(exc: SceneError) -> str:
+    """The part of a SceneError that helps a student: problem, value, hint."""
+    errors = getattr(exc, "errors", None) or [exc]
+    parts = []
+    for e in errors:
+        text = e.problem
+        if e.field:
+            text = f"{e.field}: {text}"
+        if e.has_value:
+            text += f", got {_show(e.value)}"
+        if e.hint:
+            text += f"; {e.hint}"
+        parts.append(text)
+    return "; ".join(parts)
+
+
+# ---------------------------------------------------------------------------
+# colour helpers
+
+
+def rgb_to_hex(rgb) -> str:
+    """``(r, g, b)`` in [0, 1] (clipped) as ``#rrggbb``."""
+    return "#" + "".join(f"{int(round(min(max(c, 0.0), 1.0) * 255)):02x}" for c in rgb)
+
+
+def hex_to_rgb(text: str) -> tuple[float, float, float]:
+    """``#rrggbb`` as three floats in [0, 1]."""
+    return tuple(int(text[i : i + 2], 16) / 255.0 for i in (1, 3, 5))
+
+
+def split_level(rgb) -> tuple[float, tuple[float, float, float]]:
+    """An RGB coefficient as (level, hue): level = largest channel, hue = rgb / level."""
+    level = max(rgb)
+    if level <= 0:
+        return 0.0, (1.0, 1.0, 1.0)
+    return level, tuple(c / level for c in rgb)
+
+
+# ---------------------------------------------------------------------------
+# light placement
+
+
+def light_place(light, focal) -> tuple[float, float, float]:
+    """(azimuth°, elevation°, distance) of a light around the focal point.
+
+    A directional light's direction (towards the light) gives azimuth and
+    elevation; its distance is reported as 0.
+    """
+    if isinstance(light, core.DirectionalLight):
+        d = light.direction
+        distance = 0.0
+    else:
+        d = tuple(p - f for p, f in zip(light.position, focal))
+        distance = math.sqrt(sum(c * c for c in d))
+    length = math.sqrt(sum(c * c for c in d)) or 1.0
+    x, y, z = (c / length for c in d)
+    azimuth = math.degrees(math.atan2(x, z))
+    elevation = math.degrees(math.asin(max(-1.0, min(1.0, y))))
+    return azimuth, elevation, distance
+
+
+def place_offset(azimuth: float, elevation: float, distance: float) -> tuple[float, float, float]:
+    """The offset from the focal point for azimuth°, elevation° and distance."""
+    a, e = math.radians(azimuth), math.radians(elevation)
+    return (
+        distance * math.cos(e) * math.sin(a),
+        distance * math.sin(e),
+        distance * math.cos(e) * math.cos(a),
+    )
+
+
+def _aims_at(light, focal) -> bool:
+    """Whether a spot's axis points from its position at the focal point."""
+    to_focal = [f - p for p, f in zip(light.position, focal)]
+    n1 = math.sqrt(sum(c * c for c in to_focal))
+    n2 = math.sqrt(sum(c * c for c in light.direction))
+    if n1 == 0 or n2 == 0:
+        return False
+    cos = sum(a * b for a, b in zip(to_focal, light.direction)) / (n1 * n2)
+    return cos > 1 - 1e-6
+
+
+def _light_table(scene, index) -> dict:
+    return field_value(scene, f"lights[{index}]")
+
+
+def _move_light(scene, index, azimuth=None, elevation=None, distance=None):
+    """The scene with light ``index`` moved to new azimuth/elevation/distance (None: keep)."""
+    light = scene.lights[index]
+    focal = scene.camera.focal_point
+    az, el, dist = light_place(light, focal)
+    az = az if azimuth is None else azimuth
+    el = el if elevation is None else elevation
+    dist = dist if distance is None else distance
+    table = _light_table(scene, index)
+    if isinstance(light, core.DirectionalLight):
+        table["direction"] = list(place_offset(az, el, 1.0))
+    else:
+        if dist <= 0:
+            raise ControlError(f"lights[{index}].distance: must be > 0, got {dist:g}")
+        offset = place_offset(az, el, dist)
+        position = [f + o for f, o in zip(focal, offset)]
+        if isinstance(light, core.SpotLight) and _aims_at(light, focal):
+            # a spot aimed at the focal point stays aimed at it
+            table["direction"] = [-o for o in offset]
+        table["position"] = position
+    return scene.replace(f"lights[{index}]", table)
+
+
+def _retype_light(scene, index, kind):
+    """The scene with light ``index`` turned into a ``kind`` light at the same place."""
+    light = scene.lights[index]
+    old = _light_table(scene, index)
+    if old["type"] == kind:
+        return scene
+    focal = scene.camera.focal_point
+    az, el, dist = light_place(light, focal)
+    if dist <= 0:
+        dist = max(3.0, math.dist(scene.camera.eye, focal))
+    table = {k: old[k] for k in ("color", "intensity", "diffuse", "specular") if k in old}
+    table["type"] = kind
+    offset = place_offset(az, el, dist)
+    if kind == "directional":
+        table["direction"] = list(place_offset(az, el, 1.0))
+    else:
+        table["position"] = [f + o for f, o in zip(focal, offset)]
+        table["attenuation"] = old.get("attenuation", [1.0, 0.0, 0.0])
+        if kind == "spot":
+            table["direction"] = [-o for o in offset]
+            table.update(SPOT_DEFAULTS)
+    return scene.replace(f"lights[{index}]", table)
+
+
+# ---------------------------------------------------------------------------
+# building the controls of a scene
+
+
+def _field(path, label, kind, **kwargs) -> Control:
+    """A control bound straight to a scene field."""
+
+    def read(scene, options):
+        return field_value(scene, path)
+
+    def write(scene, value, options):
+        return scene.replace(path, value), options
+
+    return Control(path=path, label=label, kind=kind, read=read, write=write, **kwargs)
+
+
+def _coefficient(name: str, symbol: str, group: str) -> list[Control]:
+    """``material.NAME.level`` (slider) and ``material.NAME.color`` (hue picker)."""
+    path = f"material.{name}"
+
+    def level_read(scene, options):
+        return split_level(getattr(scene.material, name))[0]
+
+    def level_write(scene, value, options):
+        _, hue = split_level(getattr(scene.material, name))
+        hue = options.get(f"hue:{path}", hue)
+        return scene.replace(path, [value * c for c in hue]), options
+
+    def color_read(scene, options):
+        level, hue = split_level(getattr(scene.material, name))
+        return rgb_to_hex(options.get(f"hue:{path}", hue) if level == 0 else hue)
+
+    def color_write(scene, value, options):
+        level, _ = split_level(getattr(scene.material, name))
+        _, hue = split_level(hex_to_rgb(value))
+        options[f"hue:{path}"] = hue  # remembered while the level is 0
+        return scene.replace(path, [level * c for c in hue]), options
+
+    return [
+        Control(path=f"{path}.level", label=f"${symbol}$", kind="slider", read=level_read, write=level_write,
+                low=0.0, high=1.0, step=0.01, group=group),
+        Control(path=f"{path}.color", label=f"${symbol}$ colour", kind="color", read=color_read,
+                write=color_write, group=group),
+    ]
+
+
+def _shininess(group: str) -> Control:
+    def read(scene, options):
+        return math.log10(max(scene.material.shininess, 1e-300))
+
+    def write(scene, value, options):
+        return scene.replace("material.shininess", round(10.0**value, 6)), options
+
+    low, high = SHININESS_LOG_RANGE
+    return Control(path="material.shininess.log", label=r"shininess $\alpha$", kind="slider", read=read, write=write,
+                   low=low, high=high, step=0.01, fmt="alpha", group=group)
+
+
+def _light_controls(scene, index: int) -> list[Control]:
+    light = scene.lights[index]
+    base = f"lights[{index}]"
+    group = f"Light {index}"
+    controls: list[Control] = []
+    if isinstance(light, core.AmbientLight):
+        group = f"Ambient light {index}"
+    else:
+        def type_read(scene, options, index=index):
+            return _light_table(scene, index)["type"]
+
+        def type_write(scene, value, options, index=index):
+            return _retype_light(scene, index, value), options
+
+        controls.append(Control(path=f"{base}.type", label="type", kind="select", read=type_read, write=type_write,
+                                items=LIGHT_TYPES, group=group))
+
+        def place(which):
+            def read(scene, options, index=index):
+                return light_place(scene.lights[index], scene.camera.focal_point)[which]
+
+            def write(scene, value, options, index=index):
+                kwargs = {("azimuth", "elevation", "distance")[which]: value}
+                return _move_light(scene, index, **kwargs), options
+
+            return read, write
+
+        for which, (name, label, low, high, step, unit) in enumerate(
+            (("azimuth", "azimuth", -180.0, 180.0, 1.0, "°"),
+             ("elevation", "elevation", -89.0, 89.0, 1.0, "°"),
+             ("distance", "distance", 0.5, 12.0, 0.05, ""))
+        ):
+            if name == "distance" and isinstance(light, core.DirectionalLight):
+                continue
+            read, write = place(which)
+            controls.append(Control(path=f"{base}.{name}", label=label, kind="slider", read=read, write=write,
+                                    low=low, high=high, step=step, unit=unit,
+                                    fmt="{:.0f}" if unit == "°" else "{:.2f}", group=group))
+    # colour and intensity, every light
+    controls.append(
+        Control(
+            path=f"{base}.color",
+            label="colour",
+            kind="color",
+            read=lambda scene, options, index=index: rgb_to_hex(scene.lights[index].color),
+            write=lambda scene, value, options, base=base: (scene.replace(f"{base}.color", list(hex_to_rgb(value))), options),
+            group=group,
+        )
+    )
+    controls.append(_field(f"{base}.intensity", "intensity", "slider", low=0.0, high=2.0, step=0.01, group=group))
+    if isinstance(light, core.PointLight):  # point and spot
+        for i, (name, high, step) in enumerate((("a (constant)", 2.0, 0.01), ("b (linear)", 1.0, 0.01),
+                                                 ("c (quadratic)", 0.5, 0.005))):
+            controls.append(_field(f"{base}.attenuation[{i}]", f"attenuation {name}", "slider",
+                                   low=0.0, high=high, step=step, fmt="{:.3f}", group=group))
+    if isinstance(light, core.SpotLight):
+        controls.append(_field(f"{base}.cutoff", "cutoff", "slider", low=1.0, high=90.0, step=1.0, unit="°",
+                               fmt="{:.0f}", group=group))
+        controls.append(_field(f"{base}.exponent", "spot exponent", "slider", low=0.0, high=128.0, step=0.5,
+                               fmt="{:.1f}", group=group))
+    return controls
+
+
+def _term() -> Control:
+    def read(scene, options):
+        return options.get("term", "color")
+
+    def write(scene, value, options):
+        options["term"] = value
+        return scene, options
+
+    return Control(path="view.term", label="show", kind="select", read=read, write=write, items=TERMS,
+                   group="View")
+
+
+def scene_controls(scene) -> list[Control]:
+    """Every control for ``scene``, grouped: material, lights, shading, view."""
+    controls = []
+    for name, symbol in (("ka", "k_a"), ("kd", "k_d"), ("ks", "k_s")):
+        controls += _coefficient(name, symbol, "Material")
+    controls.append(_shininess("Material"))
+    for index in range(len(scene.lights)):
+        controls += _light_controls(scene, index)
+    controls.append(_field("model", "model", "select", items=MODELS, group="Shading"))
+    controls.append(_field("interpolation", "interpolation", "select", items=INTERPOLATIONS, group="Shading"))
+    controls.append(_field("two_sided", "two-sided lighting", "switch", group="Shading"))
+    controls.append(_field("camera.infinite_viewer", "infinite viewer", "switch", group="Shading"))
+    controls.append(_term())
+    return controls
+
+
+#: a lesson's control path -> the paths of the widgets that edit it
+def widgets_for(path: str) -> tuple[str, ...]:
+    """The control paths a lesson's ``controls`` entry stands for.
+
+    ``material.kd`` gives its level slider and colour; ``lights[1].position``
+    gives azimuth, elevation and distance; ``lights[1].attenuation`` its three
+    coefficients; other paths stand for themselves.
+    """
+    if path == "material.shininess":
+        return ("material.shininess.log",)
+    m = re.fullmatch(r"material\.(ka|kd|ks)", path)
+    if m:
+        return (f"{path}.level", f"{path}.color")
+    m = re.fullmatch(r"(lights\[\d+\])\.(position|direction|homogeneous)", path)
+    if m:
+        return tuple(f"{m.group(1)}.{p}" for p in ("azimuth", "elevation", "distance"))
+    m = re.fullmatch(r"(lights\[\d+\])\.attenuation", path)
+    if m:
+        return tuple(f"{m.group(1)}.attenuation[{i}]" for i in range(3))
+    return (path,)
+
+
+def lesson_controls(controls: list[Control], paths) -> list[Control]:
+    """The controls a lesson asks for, in its order (paths without a widget are left out)."""
+    by_path = {c.path: c for c in controls}
+    chosen, seen = [], set()
+    for path in paths:
+        for widget in widgets_for(path):
+            if widget in by_path and widget not in seen:
+                chosen.append(by_path[widget])
+                seen.add(widget)
+    return chosen
+
+
+def field_mirrors(scene) -> list[Control]:
+    """A value control per editable scene field: the field's file form under its own key."""
+    paths = ["material.ka", "material.kd", "material.ks", "material.shininess", "material.emission",
+             "model", "interpolation", "two_sided", "camera.infinite_viewer", "probe"]
+    for index, light in enumerate(scene.lights):
+        base = f"lights[{index}]"
+        paths += [f"{base}.color", f"{base}.intensity"]
+        if isinstance(light, core.DirectionalLight):
+            paths.append(f"{base}.direction")
+        elif not isinstance(light, core.AmbientLight):
+            paths += [f"{base}.position", f"{base}.attenuation"]
+            if isinstance(light, core.SpotLight):
+                paths += [f"{base}.direction", f"{base}.cutoff", f"{base}.exponent"]
+    return [_field(path, path, "value", group="fields") for path in paths]
+
+
+def format_value(control: Control, value) -> str:
+    """A slider value as the page shows it (α for the log slider)."""
+    if control.fmt == "alpha":
+        alpha = 10.0**value
+        return f"{alpha:.0f}" if alpha >= 10 else f"{alpha:.2f}"
+    return control.fmt.format(value) + control.unit

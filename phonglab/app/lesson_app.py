@@ -1,0 +1,739 @@
+"""The lesson page: one trame app per browser tab.
+
+:class:`LessonApp` shows a lesson's text (Markdown with MathML), the scene in
+a ``VtkLocalView`` (the render layer's :class:`~phonglab.render.SceneView`:
+colours from the core, lighting off), the controls the lesson asks for plus
+all the others, the numbers at the probe point, and the planner's verdict.
+
+What happens on a change:
+
+1. the browser sets a control's state key; :meth:`LessonApp._on_control`
+   checks the value (:class:`~phonglab.app.controls.Control`) and builds the
+   new scene, or refuses it with a visible notice and keeps the old scene;
+2. the view is updated (:meth:`SceneView.update`); if only colours changed,
+   the new colour bytes alone go to the browser (:mod:`phonglab.app.client`),
+   otherwise the local view is synchronised;
+3. the readout, the planner's verdict and the other widgets follow.
+
+Nothing a browser sends can stop the server: every handler catches its
+errors and reports them on the page.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import io
+import json
+import logging
+import math
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from trame.app import TrameApp
+from trame.ui.html import DivLayout
+from trame.ui.vuetify3 import VAppLayout
+from trame.widgets import client, html
+from trame.widgets import vtk as vtk_widgets
+from trame.widgets import vuetify3 as v3
+
+from phonglab import core
+from phonglab.app import controls as ctl
+from phonglab.app import text
+from phonglab.app.client import MODULE, ColorPush, color_payload
+from phonglab.app.readout import probe_readout
+from phonglab.app.timing import record
+from phonglab.scene import SceneError, load_lesson, load_scene, plan
+from phonglab.scene.loader import lesson_files
+
+log = logging.getLogger(__name__)
+
+#: colours of the vector chips (N, L, R, V, H), matching the arrows in the view
+APP_TITLE = "phonglab"
+#: size of the server-side image in pixel mode (width, height)
+PIXEL_SIZE = (960, 720)
+#: seconds between sending a view update and refreshing the panels (lets the update leave first)
+PANEL_DELAY = 0.004
+#: scene fields whose change only recolours the mesh (no geometry, arrow or marker moves)
+COLOUR_ONLY_FIELDS = {"material", "model"}
+
+
+@dataclass
+class Entry:
+    """One item of the lesson list: a lesson or scene file, loaded or not."""
+
+    path: Path
+    number: int | None = None
+    title: str = ""
+    lesson: object = None  # phonglab.scene.Lesson, or None for a plain scene
+    scene: object = None
+    errors: list = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return self.scene is not None and not self.errors
+
+
+def load_entry(path: Path) -> Entry:
+    """Load a lesson (``.md``) or scene (``.toml``) file; problems go into ``errors``."""
+    entry = Entry(path=Path(path))
+    try:
+        if entry.path.suffix.lower() == ".toml":
+            entry.scene = load_scene(entry.path)
+            entry.title = entry.scene.title or entry.path.stem
+        else:
+            entry.lesson = load_lesson(entry.path)
+            entry.scene = entry.lesson.scene
+            entry.number = entry.lesson.number
+            entry.title = entry.lesson.title
+    except SceneError as exc:
+        entry.errors = [str(e) for e in getattr(exc, "errors", [exc])]
+    except OSError as exc:
+        entry.errors = [f"{entry.path}: cannot read: {exc.strerror or exc}"]
+    if not entry.title:
+        entry.title = _title_from_name(entry.path)
+    if entry.number is None:
+        digits = "".join(ch for ch in entry.path.name.split("-")[0] if ch.isdigit())
+        entry.number = int(digits) if digits else None
+    return entry
+
+
+def _title_from_name(path: Path) -> str:
+    stem = path.stem.split("-", 1)[-1] if "-" in path.stem else path.stem
+    return stem.replace("-", " ").replace("_", " ").capitalize()
+
+
+def catalog(target) -> tuple[list[Entry], int]:
+    """The lesson list for ``target`` and the index to open first.
+
+    ``target`` is a folder of lessons, a lesson file (its folder's lessons are
+    listed, it opens first) or a scene file (listed alone).
+    """
+    target = Path(target)
+    if target.is_dir():
+        files = lesson_files(target)
+        return [load_entry(p) for p in files], 0
+    if target.suffix.lower() == ".toml":
+        return [load_entry(target)], 0
+    files = lesson_files(target.parent)
+    if target.resolve() not in [p.resolve() for p in files]:
+        files = [target] + files
+    entries = [load_entry(p) for p in files]
+    first = next(i for i, e in enumerate(entries) if e.path.resolve() == target.resolve())
+    return entries, first
+
+
+class LessonApp(TrameApp):
+    """The lesson page for one browser tab.
+
+    Parameters
+    ----------
+    server : trame server or name
+    target : path
+        A lessons folder, a lesson file or a scene file.
+    export_dir : path
+        Where the export button writes figures.
+    """
+
+    def __init__(self, server=None, *, target, export_dir="phonglab-exports"):
+        super().__init__(server)
+        self.server.enable_module(MODULE)
+        self.export_dir = Path(export_dir)
+        self.entries, first = catalog(target)
+        self.index = None
+        self.entry = None
+        self.scene = None
+        self.options = {"term": "color"}
+        self.view = None  # SceneView, created with the first good scene
+        self._mesh_mapper = None
+        self._controls = {}  # state key -> Control
+        self._watched = set()
+        self._notice_serial = 0
+        self._busy = False
+        self._panels_handle = None
+        self._rebuild_pending = False
+        self._view_ms = 0.0
+        self._synced = {}
+        self.state.trame__title = "phonglab — the Phong illumination model"
+        self._init_state()
+        # one SceneView for the whole session, built from the first good scene
+        good = [e for e in self.entries if e.ok]
+        if good:
+            from phonglab.render import SceneView
+
+            start = self.entries[first] if self.entries[first].ok else good[0]
+            self.view = SceneView(start.scene, size=PIXEL_SIZE, labels=False)
+        self._build_ui()
+        self.open_lesson(first)
+
+    # ------------------------------------------------------------------
+    # state
+
+    def _init_state(self):
+        s = self.state
+        s.drawer = False
+        s.lessons = [
+            {"index": i, "number": e.number, "title": e.title, "ok": e.ok, "problems": len(e.errors)}
+            for i, e in enumerate(self.entries)
+        ]
+        s.lesson_index = -1
+        s.lesson_title = ""
+        s.lesson_number = None
+        s.lesson_goal_html = ""
+        s.lesson_html = ""
+        s.lesson_errors = []
+        s.experiments = []
+        s.question_html = ""
+        s.answer_html = ""
+        s.show_answer = False
+        s.readout = None
+        s.plan_computed = []
+        s.plan_skipped = []
+        s.legend = []
+        s.notice = None
+        s.view_colors = None
+        s.pixel_src = ""
+        s.pixel_mode = False
+        s.control_values = {}
+        s.control_labels = {}
+        s.has_view = False
+
+    def notify(self, kind: str, message: str) -> None:
+        """Show a message above the controls (kind: "error", "success", "info")."""
+        self._notice_serial += 1
+        self.state.notice = {"kind": kind, "text": message, "serial": self._notice_serial}
+
+    # ------------------------------------------------------------------
+    # lessons
+
+    def open_lesson(self, index) -> None:
+        """Show lesson ``index`` of the list (its errors, if it has any)."""
+        try:
+            index = int(index)
+            if not 0 <= index < len(self.entries):
+                raise IndexError
+        except (TypeError, ValueError, IndexError):
+            self.notify("error", f"no such lesson: {index!r}")
+            return
+        entry = self.entries[index]
+        self.index, self.entry = index, entry
+        s = self.state
+        s.lesson_index = index
+        s.lesson_title = entry.title
+        s.lesson_number = entry.number
+        s.show_answer = False
+        s.notice = None
+        if not entry.ok:
+            s.lesson_errors = entry.errors or ["this file has no scene"]
+            s.lesson_html = ""
+            s.lesson_goal_html = ""
+            s.experiments = []
+            s.question_html = s.answer_html = ""
+            s.has_view = self.view is not None
+            self._controls = {}
+            self._build_controls([])
+            return
+        s.lesson_errors = []
+        lesson = entry.lesson
+        s.lesson_goal_html = text.inline(lesson.goal) if lesson and lesson.goal else ""
+        s.lesson_html = text.render_markdown(_strip_title(lesson.body)) if lesson else ""
+        s.experiments = [
+            {"index": i, "label": text.inline(x.label), "text": text.inline(x.text) if x.text else ""}
+            for i, x in enumerate(lesson.experiments)
+        ] if lesson else []
+        s.question_html = text.inline(lesson.question) if lesson and lesson.question else ""
+        s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
+        self.options = {"term": "color"}
+        self._show_scene(entry.scene, new_lesson=True)
+
+    def reset_lesson(self) -> None:
+        """Go back to the lesson's own scene."""
+        if self.entry is not None and self.entry.ok:
+            self.options = {"term": "color"}
+            self._show_scene(self.entry.scene, new_lesson=True)
+            self.notify("info", "Back to the lesson's settings.")
+
+    def apply_experiment(self, index) -> None:
+        """Apply an experiment's settings to the current scene."""
+        lesson = self.entry.lesson if self.entry else None
+        try:
+            experiment = lesson.experiments[int(index)]
+        except (AttributeError, TypeError, ValueError, IndexError):
+            self.notify("error", f"no such experiment: {index!r}")
+            return
+        scene = self.scene
+        try:
+            for path, value in experiment.settings:
+                scene = scene.replace(path, value)
+        except SceneError as exc:
+            self.notify("error", f"experiment {experiment.label!r} could not be applied: {exc}")
+            return
+        self._show_scene(scene)
+        self.notify("info", f"Applied: {experiment.label}")
+
+    # ------------------------------------------------------------------
+    # the scene on screen
+
+    def _show_scene(self, scene, *, new_lesson=False, colours_only=False, defer_panels=False) -> None:
+        """Make ``scene`` the one on screen and refresh everything that depends on it.
+
+        With ``defer_panels`` the readout, verdict and widgets are refreshed a
+        moment later, so the view's update leaves for the browser first.
+        """
+        old = self.scene
+        self.scene = scene
+        self.view.update(scene)
+        self.view.set_term(self.options["term"])
+        self.state.has_view = True
+        if colours_only:
+            self._push_colours()
+        else:
+            self._mesh_mapper = None
+            self.html_view.update()
+            if new_lesson:
+                self.html_view.push_camera()
+        self._refresh_pixels()
+        rebuild = new_lesson or old is None or _controls_shape(old) != _controls_shape(scene)
+        if defer_panels:
+            self._rebuild_pending = self._rebuild_pending or rebuild
+            if self._panels_handle is None:
+                self._panels_handle = asyncio.get_event_loop().call_later(PANEL_DELAY, self._deferred_panels)
+        else:
+            self._refresh_panels(rebuild_controls=rebuild)
+
+    def _deferred_panels(self) -> None:
+        """The refresh :meth:`_show_scene` put off; records the update's server time."""
+        self._panels_handle = None
+        rebuild, self._rebuild_pending = self._rebuild_pending, False
+        start = time.perf_counter()
+        try:
+            if self.scene is not None:
+                self._refresh_panels(rebuild_controls=rebuild)
+                self.state.flush()
+        except Exception as exc:
+            log.exception("refreshing the panels")
+            self.notify("error", f"Could not refresh the panels: {type(exc).__name__}: {exc}")
+            self.state.flush()
+        finally:
+            spent, self._view_ms = self._view_ms, 0.0
+            record("view", spent + (time.perf_counter() - start) * 1000.0)
+
+    def _mapper(self):
+        """The mapper of the shaded mesh (its input is the view's mesh)."""
+        if self._mesh_mapper is None or self._mesh_mapper.GetInput() is not self.view.mesh:
+            actors = self.view.renderer.GetActors()
+            actors.InitTraversal()
+            for _ in range(actors.GetNumberOfItems()):
+                actor = actors.GetNextActor()
+                mapper = actor.GetMapper()
+                if mapper is not None and mapper.GetInput() is self.view.mesh:
+                    self._mesh_mapper = mapper
+                    break
+        return self._mesh_mapper
+
+    def _push_colours(self) -> None:
+        """Send only the mesh's new colours to the browser."""
+        mesh = self.view.mesh
+        from phonglab.render.glyphs import COLOR_ARRAY
+
+        if self.scene.interpolation == "flat":
+            colours, location = mesh.cell_data[COLOR_ARRAY], "cell"
+        else:
+            colours, location = mesh.point_data[COLOR_ARRAY], "point"
+        self.state.view_colors = color_payload(self._mapper(), colours, name=COLOR_ARRAY, location=location)
+        self.state.flush()
+
+    def _refresh_pixels(self) -> None:
+        """In pixel mode, the core's per-pixel image (from the scene's camera) over the view."""
+        pixel = self.scene.interpolation == "pixel"
+        self.state.pixel_mode = pixel
+        if not pixel:
+            self.state.pixel_src = ""
+            return
+        from PIL import Image
+
+        image = self.view.screenshot(annotate=True)
+        buffer = io.BytesIO()
+        Image.fromarray(image).save(buffer, format="PNG", compress_level=1)
+        self.state.pixel_src = "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+    def _refresh_panels(self, *, rebuild_controls: bool) -> None:
+        scene = self.scene
+        s = self.state
+        # planner verdict
+        verdict = plan(scene)
+        s.plan_computed = [{"effect": e, "reason": r} for e, r in verdict.computed]
+        s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
+        # probe readout and vector legend
+        point, normal = self.view.probe
+        s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index)
+        s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
+        # controls
+        all_controls = ctl.scene_controls(scene)
+        mirrors = ctl.field_mirrors(scene)
+        chosen = ctl.lesson_controls(all_controls, self.entry.lesson.controls) if self.entry.lesson else []
+        self._controls = {c.key: c for c in all_controls + mirrors}
+        self._sync_control_values()
+        if rebuild_controls:
+            self.state.control_labels = {c.key: text.inline(c.label) for c in all_controls}
+            self._build_controls(chosen, all_controls)
+        for key in self._controls:
+            if key not in self._watched:
+                self._watched.add(key)
+                self.state.change(key)(self._watcher(key))
+
+    def _sync_control_values(self) -> None:
+        """Write every control's value for the current scene into the state."""
+        values = {}
+        for key, control in self._controls.items():
+            value = control.read(self.scene, self.options)
+            if self._synced.get(key, _UNSET) != value or self.state[key] != value:
+                self.state[key] = value
+                self._synced[key] = value
+            if control.kind == "slider":
+                values[key] = ctl.format_value(control, value)
+        if values != self.state.control_values:
+            self.state.control_values = values
+
+    # ------------------------------------------------------------------
+    # browser input
+
+    def _watcher(self, key):
+        def on_change(**_):
+            self._on_control(key, self.state[key])
+
+        return on_change
+
+    def _on_control(self, key, value) -> None:
+        control = self._controls.get(key)
+        if control is None or self.scene is None or self._busy:
+            return
+        try:
+            current = control.read(self.scene, self.options)
+            if control.same(value, current):
+                return
+            start = time.perf_counter()
+            self._busy = True
+            try:
+                scene, options = control.apply(self.scene, value, self.options)
+            except ctl.ControlError as exc:
+                self.notify("error", f"Refused: {exc}. The previous value stays.")
+                self.state[key] = current
+                return
+            colours_only = _changed(self.scene, scene) <= COLOUR_ONLY_FIELDS and scene.interpolation != "pixel"
+            self.options = options
+            self._show_scene(scene, colours_only=colours_only, defer_panels=True)
+            if self.state.notice and self.state.notice.get("kind") == "error":
+                self.state.notice = None
+            self.state.flush()
+            self._view_ms += (time.perf_counter() - start) * 1000.0
+        except Exception as exc:  # the server stays up whatever arrives
+            log.exception("control %s", key)
+            self.notify("error", f"Could not apply {key}: {type(exc).__name__}: {exc}")
+        finally:
+            self._busy = False
+
+    def on_pick(self, event=None, **_) -> None:
+        """A click on the view: move the probe to the first surface point under it."""
+        from phonglab.render.mesh import ray_hit
+
+        try:
+            ray = (event or {}).get("ray") if isinstance(event, dict) else None
+            if not (isinstance(ray, list) and len(ray) == 2):
+                return
+            near, far = (_finite3(p) for p in ray)
+            hit = ray_hit(self.view.mesh, near, far)
+            if hit is None:
+                return
+            point = [round(float(c), 6) for c in hit[0]]
+            self._show_scene(self.scene.replace("probe", point))
+        except (ValueError, TypeError, SceneError) as exc:
+            self.notify("error", f"Refused a click: {exc}")
+        except Exception as exc:
+            log.exception("pick")
+            self.notify("error", f"Could not pick: {type(exc).__name__}: {exc}")
+
+    def export_figure(self) -> None:
+        """Save the current scene as a PNG through :func:`phonglab.render.figure`."""
+        from phonglab.render import figure
+
+        try:
+            self.export_dir.mkdir(parents=True, exist_ok=True)
+            stem = f"lesson-{self.entry.number:02d}" if self.entry.number is not None else self.entry.path.stem
+            name = f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}.png"
+            path = figure(self.scene, self.export_dir / name, vectors="NLRVH")
+            self.notify("success", f"Saved {path}")
+        except Exception as exc:
+            log.exception("export")
+            self.notify("error", f"Export failed: {exc}")
+
+    # ------------------------------------------------------------------
+    # page
+
+    def _build_ui(self):
+        with VAppLayout(self.server, full_height=True) as self.ui:
+            self.ui.root.classes = "phonglab"
+            with v3.VAppBar(density="compact", elevation=1, classes="phonglab-bar"):
+                v3.VAppBarNavIcon(click="drawer = !drawer", classes="phonglab-menu")
+                html.Div("phonglab", classes="phonglab-brand")
+                html.Div(
+                    "{{ lesson_number != null ? lesson_number + ' · ' : '' }}{{ lesson_title }}",
+                    classes="phonglab-lesson-title",
+                )
+                v3.VSpacer()
+                v3.VBtn("Reset", prepend_icon="mdi-restore", variant="text", click=self.reset_lesson,
+                        disabled=("lesson_errors.length > 0",), classes="phonglab-reset")
+                v3.VBtn("Export PNG", prepend_icon="mdi-image-outline", variant="tonal", color="primary",
+                        click=self.export_figure, disabled=("lesson_errors.length > 0",),
+                        classes="phonglab-export ml-2 mr-2")
+            with v3.VNavigationDrawer(v_model=("drawer",), temporary=True, width=300, classes="phonglab-drawer"):
+                v3.VListSubheader("Lessons")
+                with v3.VList(density="compact", nav=True):
+                    with v3.VListItem(
+                        v_for="item in lessons",
+                        key="item.index",
+                        active=("item.index === lesson_index",),
+                        click=(self._open_from_list, "[item.index]"),
+                        classes="phonglab-lesson-item",
+                    ):
+                        with v3.Template(v_slot_prepend=True):
+                            html.Span("{{ item.number != null ? item.number : '·' }}", classes="phonglab-num")
+                        v3.VListItemTitle("{{ item.title }}")
+                        with v3.Template(v_slot_append=True):
+                            v3.VIcon("mdi-alert-circle-outline", color="error", v_if="!item.ok", size="small")
+            with v3.VMain(classes="phonglab-main"):
+                with html.Div(classes="phonglab-grid"):
+                    self._lesson_column()
+                    self._view_column()
+                    self._control_column()
+
+    def _open_from_list(self, index):
+        self.state.drawer = False
+        self.open_lesson(index)
+
+    def _lesson_column(self):
+        with html.Div(classes="phonglab-text"):
+            with html.Div(v_if="lesson_errors.length", classes="phonglab-errors"):
+                html.H2("This lesson file has problems")
+                html.P("Fix them in the file and reload the page. phonglab check lists them too.")
+                with html.Ul():
+                    html.Li("{{ e }}", v_for="(e, i) in lesson_errors", key="i", classes="phonglab-error")
+            with html.Div(v_else=True):
+                html.H1("{{ lesson_title }}", classes="phonglab-h1")
+                html.Div(v_if="lesson_goal_html", v_html=("'<b>Goal.</b> ' + lesson_goal_html",),
+                         classes="phonglab-goal")
+                html.Div(v_html=("lesson_html",), classes="phonglab-body")
+                with html.Div(v_if="experiments.length", classes="phonglab-experiments"):
+                    html.H3("Experiments")
+                    with v3.VCard(v_for="x in experiments", key="x.index", variant="outlined",
+                                  classes="phonglab-experiment mb-2"):
+                        with v3.VCardText(classes="d-flex align-center"):
+                            with html.Div(classes="flex-grow-1 pr-2"):
+                                html.Div(v_html=("x.label",), classes="font-weight-medium")
+                                html.Div(v_if="x.text", v_html=("x.text",), classes="text-body-2")
+                            v3.VBtn("Apply", size="small", color="primary", variant="flat",
+                                    click=(self.apply_experiment, "[x.index]"), classes="phonglab-apply")
+                with html.Div(v_if="question_html", classes="phonglab-question"):
+                    html.H3("Check yourself")
+                    html.Div(v_html=("question_html",))
+                    v3.VBtn("{{ show_answer ? 'Hide answer' : 'Show answer' }}", size="small", variant="text",
+                            color="primary", click="show_answer = !show_answer", classes="phonglab-answer-btn px-0")
+                    html.Div(v_if="show_answer", v_html=("answer_html",), classes="phonglab-answer")
+
+    def _view_column(self):
+        with html.Div(classes="phonglab-centre"):
+            with html.Div(classes="phonglab-view"):
+                with vtk_widgets.VtkLocalView(
+                    self.view.render_window if self.view is not None else _empty_window(),
+                    ref="phonglab_view",
+                    picking_modes=("['click']",),
+                    click=(self.on_pick, "[$event]"),
+                    interactor_settings=("view_interaction", _INTERACTION),
+                ) as self.html_view:
+                    ColorPush(push=("view_colors",))
+                with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
+                    html.Img(src=("pixel_src",), alt="per-pixel shading by the core")
+                    html.Div("Per-pixel shading, computed by the core from the scene's camera",
+                             classes="phonglab-pixel-caption")
+                with html.Div(classes="phonglab-legend", v_if="legend.length"):
+                    with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
+                                   title=("v.meaning",)):
+                        html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
+                        html.B("{{ v.letter }}")
+                html.Div("Click the surface to move the probe · drag to turn · wheel to zoom",
+                         classes="phonglab-hint")
+            self._readout_panel()
+
+    def _readout_panel(self):
+        with html.Div(classes="phonglab-readout", v_if="readout"):
+            with html.Div(classes="phonglab-readout-head"):
+                html.Span("At the probe", classes="phonglab-section")
+                html.Span("{{ readout.point }}", classes="phonglab-mono phonglab-point")
+            with html.Div(classes="phonglab-dots"):
+                with html.Div(v_for="d in readout.dots", key="d.name", classes="phonglab-dot"):
+                    html.Span(v_html=("d.tex",))
+                    html.Span("{{ d.value }}", classes="phonglab-mono phonglab-dot-value",
+                              **{"data-name": ("d.name",)})
+                with html.Div(v_for="t in readout.terms", key="t.name", classes="phonglab-term"):
+                    html.Span("", classes="phonglab-swatch", style=("{background: t.hex}",))
+                    html.Span("{{ t.name }}")
+                    html.Span("{{ t.value }}", classes="phonglab-mono", **{"data-term": ("t.name",)})
+            html.Div(v_html=("readout.equation",), classes="phonglab-equation")
+            html.Div("{{ n }}", v_for="(n, i) in readout.notes", key="i", classes="phonglab-note")
+
+    def _control_column(self):
+        with html.Div(classes="phonglab-side"):
+            with v3.VAlert(
+                v_if="notice",
+                type=("notice.kind",),
+                variant="tonal",
+                density="compact",
+                closable=True,
+                classes="phonglab-notice mb-3",
+                click_close="notice = null",
+            ):
+                html.Span("{{ notice.text }}")
+            client.ServerTemplate(name="phonglab_controls")
+            with html.Div(classes="phonglab-plan", v_if="!lesson_errors.length"):
+                html.Div("What the planner computes", classes="phonglab-section")
+                with html.Div(v_for="p in plan_computed", key="p.effect", classes="phonglab-plan-row"):
+                    v3.VIcon("mdi-check-circle", color="success", size="small")
+                    html.B("{{ p.effect }}")
+                    html.Span("{{ p.reason }}", classes="phonglab-plan-reason")
+                with html.Div(v_for="p in plan_skipped", key="p.effect",
+                              classes="phonglab-plan-row phonglab-plan-skipped"):
+                    v3.VIcon("mdi-minus-circle-outline", color="grey", size="small")
+                    html.B("{{ p.effect }}")
+                    html.Span("{{ p.reason }}", classes="phonglab-plan-reason")
+
+    def _build_controls(self, chosen, all_controls=()):
+        """The controls panel: the lesson's controls, then every control by group."""
+        with DivLayout(self.server, template_name="phonglab_controls") as layout:
+            layout.root.classes = "phonglab-controls"
+            if chosen:
+                html.Div("This lesson", classes="phonglab-section")
+                for control in chosen:
+                    _widget(control)
+            if all_controls:
+                with v3.VExpansionPanels(variant="accordion", classes="phonglab-all mt-3", multiple=True):
+                    groups = []
+                    for control in all_controls:
+                        if control.group not in groups:
+                            groups.append(control.group)
+                    for group in groups:
+                        with v3.VExpansionPanel(title=group, classes="phonglab-group"):
+                            with v3.VExpansionPanelText():
+                                for control in all_controls:
+                                    if control.group == group:
+                                        _widget(control, suffix="all")
+
+    def close(self) -> None:
+        """Release the view's OpenGL resources (the session ended)."""
+        if self.view is not None:
+            try:
+                self.view.close()
+            except Exception:
+                log.exception("closing the view")
+            self.view = None
+
+
+#: mouse: left turns, shift-left pans, wheel zooms; a plain click picks
+_INTERACTION = [
+    {"button": 1, "action": "Rotate"},
+    {"button": 2, "action": "Pan"},
+    {"button": 3, "action": "Zoom", "scrollEnabled": True},
+    {"button": 1, "action": "Pan", "shift": True},
+    {"button": 1, "action": "Zoom", "control": True},
+]
+
+
+_UNSET = object()
+
+
+def _empty_window():
+    """An empty render window, for a page whose lessons all have errors."""
+    import vtk
+
+    from phonglab.render._vtk import make_render_window
+
+    window = make_render_window((16, 16))
+    window.AddRenderer(vtk.vtkRenderer())
+    return window
+
+
+def _widget(control: ctl.Control, suffix: str = "") -> None:
+    """One control's widget, bound to its state key."""
+    css = f"phonglab-control phonglab-control-{control.key}" + (f" phonglab-control-{suffix}" if suffix else "")
+    key = control.key
+    label = f"control_labels['{key}']"
+    if control.kind == "slider":
+        with html.Div(classes=css):
+            with html.Div(classes="phonglab-control-head"):
+                html.Span(v_html=(label,), classes="phonglab-label")
+                html.Span(f"{{{{ control_values['{key}'] }}}}", classes="phonglab-mono phonglab-value")
+            v3.VSlider(
+                v_model=(key,),
+                min=control.low,
+                max=control.high,
+                step=control.step,
+                hide_details=True,
+                density="compact",
+                color="primary",
+                thumb_size=14,
+                track_size=3,
+            )
+    elif control.kind == "color":
+        with html.Div(classes=css + " phonglab-color-row"):
+            html.Span(v_html=(label,), classes="phonglab-label")
+            html.Input(type="color", value=(key,), change=f"{key} = $event.target.value", classes="phonglab-color")
+    elif control.kind == "select":
+        with html.Div(classes=css):
+            v3.VSelect(
+                v_model=(key,),
+                items=(_js_items(control.items),),
+                label=control.label,
+                density="compact",
+                variant="outlined",
+                hide_details=True,
+                classes="mt-2",
+            )
+    elif control.kind == "switch":
+        with html.Div(classes=css):
+            v3.VSwitch(v_model=(key,), label=control.label, density="compact", hide_details=True, color="primary")
+
+
+def _js_items(items) -> str:
+    """Select items as a JavaScript literal that fits in an HTML attribute (single quotes)."""
+    return "[" + ", ".join(
+        "{value: %s, title: %s}" % (json.dumps(v).replace("'", "\\'").replace('"', "'"),
+                                    json.dumps(t).replace("'", "\\'").replace('"', "'"))
+        for v, t in items
+    ) + "]"
+
+
+def _finite3(p):
+    values = [float(c) for c in p]
+    if len(values) != 3 or not all(math.isfinite(c) for c in values):
+        raise ValueError(f"a point must be 3 finite numbers, got {p!r}")
+    return values
+
+
+def _changed(old, new) -> set:
+    """The scene's top-level fields that differ."""
+    names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe")
+    return {name for name in names if getattr(old, name) != getattr(new, name)}
+
+
+def _controls_shape(scene) -> tuple:
+    """What decides which controls exist: the light types."""
+    return tuple(type(light).__name__ for light in scene.lights)
+
+
+def _strip_title(body: str) -> str:
+    """The lesson body without its first ``#`` heading (the page shows the title itself)."""
+    lines = body.lstrip("\n").splitlines()
+    if lines and lines[0].startswith("# "):
+        lines = lines[1:]
+    return "\n".join(lines)
