@@ -181,3 +181,20 @@ def test_geometry_change_keeps_the_actor_and_resizes_arrays(view):
     assert len(props(view)) == actor_count
     assert view.mesh.point_data["rgb"].shape == (view.mesh.n_points, 3)
     assert view._mesh_actor.GetMapper().GetInput() is view.mesh
+
+
+def test_without_vtk_text_only_geometry_actors_remain_and_screenshots_keep_labels():
+    scene = red_sphere()
+    plain = SceneView(scene, size=SIZE, vtk_text=False)
+    texty = SceneView(scene, size=SIZE)
+    try:
+        kinds = {p.GetClassName() for p in props(plain)}
+        assert all(isinstance(p, vtk.vtkActor) for p in props(plain)), f"props without VTK text: {kinds}"
+        assert "vtkBillboardTextActor3D" in {p.GetClassName() for p in props(texty)}
+        a, b = plain.screenshot(), texty.screenshot()
+    finally:
+        plain.close()
+        texty.close()
+    # the letters and legend are drawn on the image either way, identically
+    assert np.array_equal(a, b), "VTK text actors leaked into the screenshot"
+    assert [e[0] for e in plain.legend()] == list("NLRVH")

@@ -297,7 +297,7 @@ def render(scene, size, *, vectors="NLRVH", term="color", supersample: int = 2, 
     big = (size[0] * ss, size[1] * ss)
     own = view is None
     if own:
-        view = SceneView(scene, size=big, vectors=vectors, term=term, background=background)
+        view = SceneView(scene, size=big, vectors=vectors, term=term, background=background, vtk_text=False)
     else:
         view.set_size(big)
         view.update(scene)
@@ -465,7 +465,7 @@ def _grid_figure(scene, cells, rows, cols, size, letters, supersample, backgroun
             if view is None:
                 ss = max(1, int(supersample))
                 view = SceneView(cell_scene, size=(cell_size[0] * ss, cell_size[1] * ss), vectors=letters,
-                                 term=term, background=background)
+                                 term=term, background=background, vtk_text=False)
             image = render(cell_scene, cell_size, vectors=letters, term=term, supersample=supersample,
                            background=background, legend=False, view=view)
             _place(fig, image, box, size)

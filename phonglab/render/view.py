@@ -73,8 +73,12 @@ class SceneView:
         Which of N, L, R, V, H to draw at the probe (``"NLRVH"``, ``"N,L"``,
         ``""`` or None for none).
     labels : bool
-        Letters at the arrow tips and the legend: VTK text in the window, and
-        drawn on :meth:`screenshot` images.
+        Letters at the arrow tips and the legend, drawn on :meth:`screenshot`
+        images (and as VTK text in the window when ``vtk_text``).
+    vtk_text : bool
+        Put the letters and legend in the VTK window as text actors (seen in
+        server-side rendering). vtk.js cannot show them and trame-vtk's local
+        view warns about them: pass False there and show :meth:`legend` in HTML.
     markers : bool
         Show the light and eye markers.
     term : str
@@ -100,6 +104,7 @@ class SceneView:
         offscreen: bool = True,
         vectors="NLRVH",
         labels: bool = True,
+        vtk_text: bool = True,
         markers: bool = True,
         term: str = "color",
         light_index: int | None = None,
@@ -139,11 +144,13 @@ class SceneView:
         for letter in glyphs.VECTORS:
             data = pv.PolyData()
             self._arrows[letter] = (data, self._glyph_actor(data))
-            self._labels[letter] = self._label_actor(letter)
+            if vtk_text:
+                self._labels[letter] = self._label_actor(letter)
         self._light_markers = []
-        self._eye = (pv.PolyData(), None)
-        self._eye = (self._eye[0], self._glyph_actor(self._eye[0]))
-        self._legend_actor = self._make_legend_actor()
+        eye_data = pv.PolyData()
+        self._eye = (eye_data, self._glyph_actor(eye_data))
+        self._directions = {}
+        self._legend_actor = self._make_legend_actor() if vtk_text else None
 
         # first fill
         self._recolor()
@@ -299,7 +306,8 @@ class SceneView:
         self.render_window.SetSize(int(size[0]), int(size[1]))
         for actor in self._labels.values():
             actor.GetTextProperty().SetFontSize(max(12, int(size[1]) // 24))
-        self._legend_actor.GetTextProperty().SetFontSize(max(10, int(size[1]) // 38))
+        if self._legend_actor is not None:
+            self._legend_actor.GetTextProperty().SetFontSize(max(10, int(size[1]) // 38))
 
     def _recolor(self) -> None:
         """Recompute the mesh colours with the core and write them into the arrays."""
@@ -346,13 +354,16 @@ class SceneView:
                 data.ShallowCopy(glyphs.arrow(point, directions[letter], glyphs.VECTORS[letter][0], view_direction))
                 data.Modified()
                 tip = point + directions[letter] * glyphs.ARROW_LENGTH * 1.12
-                self._labels[letter].SetPosition(*tip)
+                if letter in self._labels:
+                    self._labels[letter].SetPosition(*tip)
             actor.SetVisibility(bool(shown))
-            self._labels[letter].SetVisibility(bool(shown and self.show_labels))
+            if letter in self._labels:
+                self._labels[letter].SetVisibility(bool(shown and self.show_labels))
         self._directions = directions
         entries = [f"{letter}  {glyphs.VECTORS[letter][1]}" for letter in self._letters if letter in directions]
-        self._legend_actor.SetInput("\n".join(entries))
-        self._legend_actor.SetVisibility(bool(entries) and self.show_labels)
+        if self._legend_actor is not None:
+            self._legend_actor.SetInput("\n".join(entries))
+            self._legend_actor.SetVisibility(bool(entries) and self.show_labels)
 
     def _update_light_markers(self) -> None:
         """One marker per light; actors are reused, added only if the number of lights grows."""
@@ -499,7 +510,7 @@ class SceneView:
         -------
         ndarray, shape (height, width, 3), uint8
         """
-        text_actors = list(self._labels.values()) + [self._legend_actor]
+        text_actors = list(self._labels.values()) + ([self._legend_actor] if self._legend_actor else [])
         visible = [a.GetVisibility() for a in text_actors]
         for a in text_actors:
             a.VisibilityOff()
