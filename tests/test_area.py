@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from phonglab import core
-from phonglab.core.area import AreaLight, area_diffuse, irradiance, polygon_irradiance, strata_shape
+from phonglab.core.area import AreaLight, area_diffuse, area_irradiance, polygon_irradiance, strata_shape
 
 # a 1 x 1 panel at height 1 shining down (-z)
 PANEL = AreaLight(position=(0.0, 0.0, 1.0), edge_u=(1.0, 0.0, 0.0), edge_v=(0.0, -1.0, 0.0), intensity=1.0)
@@ -60,7 +60,7 @@ def unit(v):
 ])
 def test_closed_form_matches_brute_force_integral(point, normal):
     n = unit(normal)
-    exact = float(irradiance(PANEL, point, n))
+    exact = float(area_irradiance(PANEL, point, n))
     brute = midpoint_irradiance(PANEL, point, n, m=1200)
     assert exact == pytest.approx(brute, rel=2e-4, abs=1e-7), (
         f"point {point}, normal {normal}: Lambert {exact!r}, midpoint rule {brute!r}")
@@ -69,8 +69,8 @@ def test_closed_form_matches_brute_force_integral(point, normal):
 def test_closed_form_matches_monte_carlo_at_many_samples():
     points = np.array([[0.0, 0.0, 0.0], [0.8, 0.3, 0.2], [0.1, 0.0, 0.6]])
     normals = np.array([unit((0, 0, 1)), unit((0.2, 0.3, 1)), unit((1, 0, 0.1))])
-    exact = irradiance(PANEL, points, normals)
-    estimate = irradiance(PANEL, points, normals, method="stratified", samples=250_000, seed=11)
+    exact = area_irradiance(PANEL, points, normals)
+    estimate = area_irradiance(PANEL, points, normals, method="stratified", samples=250_000, seed=11)
     np.testing.assert_allclose(estimate, exact, rtol=1e-4,
                                err_msg=f"points {points.tolist()}, normals {normals.tolist()}")
 
@@ -79,7 +79,7 @@ def test_closed_form_matches_monte_carlo_at_many_samples():
 def test_square_centred_above_a_point_matches_the_form_factor_table(half, height):
     light = AreaLight(position=(0, 0, height), edge_u=(2 * half, 0, 0), edge_v=(0, -2 * half, 0), intensity=1.0)
     expected = light.radiance * math.pi * 4 * corner_form_factor(half, half, height)
-    got = float(irradiance(light, (0.0, 0.0, 0.0), UP))
+    got = float(area_irradiance(light, (0.0, 0.0, 0.0), UP))
     assert got == pytest.approx(expected, rel=1e-12), f"square half-side {half} at height {height}"
 
 
@@ -87,7 +87,7 @@ def test_rectangle_with_a_corner_above_the_point_matches_the_form_factor_table()
     a, b, h = 0.7, 1.9, 0.8
     light = AreaLight(position=(a / 2, b / 2, h), edge_u=(a, 0, 0), edge_v=(0, -b, 0), intensity=2.0)
     expected = light.radiance * math.pi * corner_form_factor(a, b, h)
-    got = float(irradiance(light, (0.0, 0.0, 0.0), UP))
+    got = float(area_irradiance(light, (0.0, 0.0, 0.0), UP))
     assert got == pytest.approx(expected, rel=1e-12), f"rectangle {a} x {b} at height {h}"
 
 
@@ -104,8 +104,8 @@ def test_small_far_light_tends_to_the_point_formula(offset):
     ratios = []
     for side in (0.4, 0.1, 0.025):
         light = AreaLight(position=(0, 0, 4.0), edge_u=(side, 0, 0), edge_v=(0, -side, 0), intensity=1.0)
-        exact = float(irradiance(light, x, UP))
-        point = float(irradiance(light, x, UP, method="point"))
+        exact = float(area_irradiance(light, x, UP))
+        point = float(area_irradiance(light, x, UP, method="point"))
         ratios.append(abs(exact / point - 1))
     assert ratios[-1] < 1e-4, f"offset {offset}: relative gaps {ratios}"
     assert ratios[0] > ratios[1] > ratios[2], f"offset {offset}: gaps should shrink with the light, {ratios}"
@@ -120,7 +120,7 @@ def test_point_approximation_is_the_inverse_square_cosine_law():
     cos_x = d[2] / dist
     cos_y = d[2] / dist  # the panel faces straight down
     expected = PANEL.intensity * cos_x * cos_y / dist**2
-    assert float(irradiance(PANEL, x, UP, method="point")) == pytest.approx(expected, rel=1e-14)
+    assert float(area_irradiance(PANEL, x, UP, method="point")) == pytest.approx(expected, rel=1e-14)
 
 
 # ---------------------------------------------------------------------------
@@ -130,28 +130,28 @@ def test_point_approximation_is_the_inverse_square_cosine_law():
 def test_points_behind_the_light_receive_nothing():
     above = np.array([[0.0, 0.0, 2.0], [0.3, 0.1, 1.5]])
     for method in ("exact", "point", "uniform", "stratified"):
-        e = irradiance(PANEL, above, np.array([0.0, 0.0, -1.0]), method=method, samples=16, seed=0)
+        e = area_irradiance(PANEL, above, np.array([0.0, 0.0, -1.0]), method=method, samples=16, seed=0)
         assert np.all(e == 0), f"{method}: points above a downward panel got {e}"
 
 
 def test_flipping_the_winding_flips_the_emitting_side():
     flipped = AreaLight(position=PANEL.position, edge_u=PANEL.edge_v, edge_v=PANEL.edge_u)
     below, above = np.array([0.0, 0.0, 0.0]), np.array([0.0, 0.0, 2.0])
-    assert float(irradiance(flipped, below, UP)) == 0.0
-    assert float(irradiance(flipped, above, -UP)) == pytest.approx(float(irradiance(PANEL, below, UP)), rel=1e-13)
+    assert float(area_irradiance(flipped, below, UP)) == 0.0
+    assert float(area_irradiance(flipped, above, -UP)) == pytest.approx(float(area_irradiance(PANEL, below, UP)), rel=1e-13)
 
 
 def test_light_entirely_below_the_horizon_gives_zero():
     # the surface faces away from the light
-    assert float(irradiance(PANEL, (0.0, 0.0, 0.0), -UP)) == 0.0
+    assert float(area_irradiance(PANEL, (0.0, 0.0, 0.0), -UP)) == 0.0
     # the light's corners are all below the tangent plane of a tilted surface
     n = unit((1.0, 0.0, -1.5))
-    assert float(irradiance(PANEL, (-1.0, 0.0, 0.0), n)) == pytest.approx(
+    assert float(area_irradiance(PANEL, (-1.0, 0.0, 0.0), n)) == pytest.approx(
         midpoint_irradiance(PANEL, (-1.0, 0.0, 0.0), n, m=200), abs=1e-15)
 
 
 def test_point_in_the_light_plane_outside_it_gets_nothing():
-    e = float(irradiance(PANEL, (2.0, 0.0, 1.0), unit((-1, 0, 0.0))))
+    e = float(area_irradiance(PANEL, (2.0, 0.0, 1.0), unit((-1, 0, 0.0))))
     assert e == pytest.approx(0.0, abs=1e-12), f"a point in the panel's plane got {e}"
 
 
@@ -160,7 +160,7 @@ def test_horizon_through_a_corner_is_continuous():
     x = np.array([0.5, 0.5, 0.0])  # the corner (0.5, 0.5, 1) lies straight above
     n_on = unit((1.0, 0.0, 0.0))  # tangent plane x = 0.5 passes through two corners
     n_near = unit((1.0, 0.0, 1e-12))
-    e_on, e_near = float(irradiance(PANEL, x, n_on)), float(irradiance(PANEL, x, n_near))
+    e_on, e_near = float(area_irradiance(PANEL, x, n_on)), float(area_irradiance(PANEL, x, n_near))
     assert e_on == pytest.approx(e_near, abs=1e-10), f"on the plane {e_on}, nudged {e_near}"
     assert e_on == pytest.approx(0.0, abs=1e-10)  # the light lies entirely at x <= 0.5
 
@@ -168,8 +168,8 @@ def test_horizon_through_a_corner_is_continuous():
 def test_float32_stays_float32_and_agrees_with_float64():
     x = np.array([[0.2, 0.1, 0.0], [1.0, -0.5, 0.3]])
     n = np.array([UP, unit((0.1, 0.2, 1))])
-    e32 = irradiance(PANEL, x.astype(np.float32), n.astype(np.float32))
-    e64 = irradiance(PANEL, x, n)
+    e32 = area_irradiance(PANEL, x.astype(np.float32), n.astype(np.float32))
+    e64 = area_irradiance(PANEL, x, n)
     assert e32.dtype == np.float32 and e64.dtype == np.float64
     np.testing.assert_allclose(e32, e64, rtol=1e-5)
 
@@ -180,9 +180,9 @@ def test_float32_stays_float32_and_agrees_with_float64():
 
 def test_monte_carlo_is_reproducible_with_a_seed():
     x = np.zeros((4, 3))
-    a = irradiance(PANEL, x, UP, method="uniform", samples=32, seed=5)
-    b = irradiance(PANEL, x, UP, method="uniform", samples=32, seed=5)
-    c = irradiance(PANEL, x, UP, method="uniform", samples=32, seed=6)
+    a = area_irradiance(PANEL, x, UP, method="uniform", samples=32, seed=5)
+    b = area_irradiance(PANEL, x, UP, method="uniform", samples=32, seed=5)
+    c = area_irradiance(PANEL, x, UP, method="uniform", samples=32, seed=6)
     np.testing.assert_array_equal(a, b)
     assert not np.array_equal(a, c)
 
@@ -193,10 +193,10 @@ def test_monte_carlo_error_falls_as_samples_grow(method):
     s = np.linspace(-1, 1, 8)
     gx, gy = np.meshgrid(s, s)
     x = np.stack([gx.ravel(), gy.ravel(), np.zeros(gx.size)], axis=1)
-    exact = irradiance(PANEL, x, UP)
+    exact = area_irradiance(PANEL, x, UP)
     errors = []
     for n in (4, 64, 1024):
-        per_seed = [np.linalg.norm(irradiance(PANEL, x, UP, method=method, samples=n, seed=seed) - exact)
+        per_seed = [np.linalg.norm(area_irradiance(PANEL, x, UP, method=method, samples=n, seed=seed) - exact)
                     / np.linalg.norm(exact) for seed in range(8)]
         errors.append(float(np.sqrt(np.mean(np.square(per_seed)))))
     assert errors[0] > errors[1] > errors[2], f"{method}: errors at N = 4, 64, 1024: {errors}"
@@ -207,17 +207,17 @@ def test_monte_carlo_error_falls_as_samples_grow(method):
 def test_monte_carlo_is_unbiased():
     # the mean of many independent 16-sample estimates sits within 4 standard errors
     x = np.array([[0.4, -0.2, 0.0]])
-    exact = float(irradiance(PANEL, x, UP)[0])
+    exact = float(area_irradiance(PANEL, x, UP)[0])
     many = np.repeat(x, 4000, axis=0)
-    est = irradiance(PANEL, many, UP, method="uniform", samples=16, seed=3)
+    est = area_irradiance(PANEL, many, UP, method="uniform", samples=16, seed=3)
     stderr = est.std() / math.sqrt(est.size)
     assert abs(est.mean() - exact) < 4 * stderr, f"mean {est.mean()}, exact {exact}, standard error {stderr}"
 
 
 def test_stratified_beats_uniform_at_the_same_samples():
     x = np.array([[0.0, 0.0, 0.0], [0.9, 0.4, 0.0]])
-    exact = irradiance(PANEL, x, UP)
-    err = {m: np.sqrt(np.mean([np.sum((irradiance(PANEL, x, UP, method=m, samples=256, seed=s) - exact) ** 2)
+    exact = area_irradiance(PANEL, x, UP)
+    err = {m: np.sqrt(np.mean([np.sum((area_irradiance(PANEL, x, UP, method=m, samples=256, seed=s) - exact) ** 2)
                                for s in range(10)])) for m in ("uniform", "stratified")}
     assert err["stratified"] < err["uniform"] / 3, f"RMS errors at N = 256: {err}"
 
@@ -243,9 +243,9 @@ def test_parallel_edges_are_refused_naming_the_field():
 
 def test_bad_method_and_samples_are_refused():
     with pytest.raises(core.InvalidValue, match="method"):
-        irradiance(PANEL, (0, 0, 0.0), UP, method="quasi")
+        area_irradiance(PANEL, (0, 0, 0.0), UP, method="quasi")
     with pytest.raises(core.InvalidValue, match="samples"):
-        irradiance(PANEL, (0, 0, 0.0), UP, method="uniform", samples=0)
+        area_irradiance(PANEL, (0, 0, 0.0), UP, method="uniform", samples=0)
 
 
 def test_area_diffuse_is_kd_times_colour_times_irradiance():
@@ -253,6 +253,6 @@ def test_area_diffuse_is_kd_times_colour_times_irradiance():
                       intensity=3.0)
     material = core.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.5, shininess=10)
     x = np.array([[0.1, 0.2, 0.0], [0.0, 0.0, 0.5]])
-    e = irradiance(light, x, UP)
+    e = area_irradiance(light, x, UP)
     got = area_diffuse(x, UP, material=material, light=light)
     np.testing.assert_allclose(got, e[:, None] * np.array([0.8, 0.15, 0.05]), rtol=1e-14)

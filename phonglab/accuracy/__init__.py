@@ -19,7 +19,7 @@ serve the "Accuracy costs time" lesson.
 
 from __future__ import annotations
 
-from phonglab.accuracy.interpolation import ERROR_RANGE, ErrorView, error_images
+from phonglab.accuracy.interpolation import ERROR_RANGE, ErrorView, error_images, error_scale_bar
 from phonglab.accuracy.timing import Progress
 
 __all__ = [
@@ -30,6 +30,7 @@ __all__ = [
     "accuracy_plot_png",
     "format_report",
     "error_images",
+    "error_scale_bar",
     "ErrorView",
     "ERROR_RANGE",
 ]

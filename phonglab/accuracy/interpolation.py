@@ -40,6 +40,7 @@ __all__ = [
     "ErrorView",
     "error_images",
     "false_colour",
+    "error_scale_bar",
     "ERROR_RANGE",
 ]
 
@@ -51,6 +52,10 @@ ERROR_RANGE = (1e-4, 1.0)
 
 #: pixels not covered by the surface in the rendered images (RGB, 0-255)
 BACKGROUND = (26, 26, 30)
+
+#: pixels without an error value in the error image: a grey that the colour
+#: map never uses, so a zero error (black) stands out from it
+ERROR_BACKGROUND = (128, 128, 136)
 
 #: a pixel belongs to the highlight where the reference's specular term is at
 #: least this fraction of its peak
@@ -142,16 +147,20 @@ def prepare(setup: Setup, resolution: int) -> Prepared:
     tri = triangles(mesh)
     centroids, face_normals = face_centroids_normals(mesh)
     points = np.asarray(mesh.points, dtype=np.float64)
-    hits = hit_mesh(setup.view, points, tri)
+    centroids = np.asarray(centroids, dtype=np.float64)
+    face_normals = np.asarray(face_normals, dtype=np.float64)
+    # the sphere is closed: only triangles facing the eye can be seen first
+    facing = np.flatnonzero(np.einsum("ij,ij->i", centroids - np.asarray(setup.view.eye), face_normals) < 0)
+    hits = hit_mesh(setup.view, points, tri[facing])
     return Prepared(
         resolution=int(resolution),
         points=points,
         normals=np.asarray(mesh.point_data["Normals"], dtype=np.float64),
         triangles=tri,
-        centroids=np.asarray(centroids, dtype=np.float64),
-        face_normals=np.asarray(face_normals, dtype=np.float64),
+        centroids=centroids,
+        face_normals=face_normals,
         mask=hits.mask,
-        triangle=hits.triangle,
+        triangle=facing[hits.triangle],
         weights=hits.weights,
     )
 
@@ -284,8 +293,8 @@ def _to_uint8(image, mask) -> np.ndarray:
 def false_colour(error, mask, *, lo: float = ERROR_RANGE[0], hi: float = ERROR_RANGE[1]) -> np.ndarray:
     """Map per-pixel errors to RGB with a log scale and the "inferno" colour map.
 
-    ``lo`` and below are black-purple, ``hi`` and above bright yellow; pixels
-    outside ``mask`` get the background colour.
+    ``lo`` and below are black, ``hi`` and above bright yellow; pixels
+    outside ``mask`` are grey (:data:`ERROR_BACKGROUND`).
     """
     from matplotlib import colormaps
 
@@ -293,8 +302,21 @@ def false_colour(error, mask, *, lo: float = ERROR_RANGE[0], hi: float = ERROR_R
     t = (np.log10(np.maximum(e, lo)) - math.log10(lo)) / (math.log10(hi) - math.log10(lo))
     rgba = colormaps["inferno"](np.clip(t, 0.0, 1.0))
     out = np.round(rgba[..., :3] * 255).astype(np.uint8)
-    out[~mask] = BACKGROUND
+    out[~mask] = ERROR_BACKGROUND
     return out
+
+
+def error_scale_bar(width: int = 256, height: int = 12) -> np.ndarray:
+    """The error images' colour scale as a (height, width, 3) uint8 strip.
+
+    The left edge is ``ERROR_RANGE[0]``, the right edge ``ERROR_RANGE[1]``,
+    logarithmic in between (one decade per quarter of the width for the
+    default range 1e-4 .. 1).
+    """
+    lo, hi = ERROR_RANGE
+    errors = np.logspace(math.log10(lo), math.log10(hi), width)
+    row = false_colour(errors, np.ones(width, dtype=bool))
+    return np.repeat(row[None], height, axis=0)
 
 
 @dataclass(frozen=True)
@@ -308,7 +330,8 @@ class ErrorView:
     render, reference, error : ndarray, (height, width, 3), uint8 RGB
         The method's image, the exact sphere's image (colours clamped to
         [0, 1]) and ``max over RGB |render − reference|`` coloured on a log
-        scale over ``error_range`` (see :func:`false_colour`).
+        scale over ``error_range`` (see :func:`false_colour`); pixels seen
+        by only one of the two (at the silhouette) or by neither are grey.
     error_range : (float, float)
         The errors shown as the darkest and the brightest colour.
     rmse, max_error, highlight_rmse, peak_error : float
