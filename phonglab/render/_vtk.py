@@ -13,24 +13,14 @@ import vtk
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 
-def quiet_vtk_warnings() -> None:
-    """Send VTK's own warnings to nowhere (errors still reach stderr).
-
-    Without a display, VTK first tries X and logs "bad X server connection"
-    before it falls back to EGL; that line would clutter every export.
-    """
-    vtk.vtkLogger.SetStderrVerbosity(vtk.vtkLogger.VERBOSITY_ERROR)
-    vtk.vtkObject.GlobalWarningDisplayOff()
-
-
 def make_render_window(size: tuple[int, int], *, offscreen: bool = True) -> vtk.vtkRenderWindow:
     """A render window of ``size`` = (width, height) pixels, offscreen by default.
 
-    Without a ``DISPLAY`` the EGL window class is used directly (no X probe).
+    Without a ``DISPLAY`` the EGL window class is used directly: VTK's
+    default factory would first try X and log "bad X server connection".
     Multisampling is off: figures are antialiased by supersampling, and the
     G-buffer needs exact, unblended values.
     """
-    quiet_vtk_warnings()
     window = None
     if offscreen and not os.environ.get("DISPLAY"):
         try:
