@@ -284,7 +284,8 @@ def unnormalised_normals(points, normals, **shade_args):
 
     ``n·l`` shrinks with ``|n|``, so the middle of every triangle is darker
     than its corners and the mesh shows up as a pattern of dark facets; ``r``
-    is no longer a unit vector either, and the highlight dims and shifts.
+    is no longer a unit vector either, so ``r·v`` stays below 1 and a sharp
+    highlight dims or vanishes altogether.
 
     **The correct line.** Renormalise after interpolating::
 
@@ -373,7 +374,8 @@ MISTAKES = {
         Mistake(
             "unnormalised-normals",
             "Interpolated normals not renormalised",
-            "Every triangle is darker in the middle than at its corners: a pattern of dark facets.",
+            "Every triangle is darker in its middle than at its corners, a pattern of dark facets, "
+            "and a sharp highlight dims or vanishes.",
             "n = b0 * n0 + b1 * n1 + b2 * n2",
             "n = normalize(b0 * n0 + b1 * n1 + b2 * n2)",
             unnormalised_normals,
