@@ -180,6 +180,13 @@ def test_error_images_are_rgb_uint8_and_match_the_study():
     assert 0 < view.rmse <= view.max_error
 
 
+def test_error_images_follow_the_shininess():
+    # a broad highlight (α = 5) is easy for Gouraud shading; a tight one (α = 200) is not
+    broad = interpolation.error_images("gouraud", 24, size=48, shininess=5.0, repeats=1)
+    tight = interpolation.error_images("gouraud", 24, size=48, shininess=200.0, repeats=1)
+    assert broad.peak_error < tight.peak_error, (broad.peak_error, tight.peak_error)
+
+
 def test_pixel_error_image_is_darker_than_flat():
     flat = interpolation.error_images("flat", 16, size=32, repeats=1)
     pixel = interpolation.error_images("pixel", 16, size=32, repeats=1)
@@ -191,6 +198,7 @@ def test_pixel_error_image_is_darker_than_flat():
     ({"method": "phong", "resolution": 16}, "method"),
     ({"method": "pixel", "resolution": 2}, "resolution"),
     ({"method": "pixel", "resolution": 16, "size": 5000}, "size"),
+    ({"method": "pixel", "resolution": 16, "size": 32, "shininess": -1}, "shininess"),
 ])
 def test_error_images_refuse_bad_input_naming_the_field(kwargs, field):
     with pytest.raises(ValueError, match=f"^{field}:"):

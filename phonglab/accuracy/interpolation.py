@@ -71,10 +71,10 @@ class Setup:
     view: View = field(default_factory=View)
 
 
-def default_setup(size: int = 128) -> Setup:
-    """The study's scene: a red plastic sphere with a tight white highlight."""
+def default_setup(size: int = 128, shininess: float = 200.0) -> Setup:
+    """The study's scene: a red plastic sphere with a tight white highlight (α = 200)."""
     return Setup(
-        material=core.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.8, shininess=200.0),
+        material=core.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.8, shininess=shininess),
         lights=(core.AmbientLight(intensity=0.2), core.PointLight(position=(2.0, 2.5, 3.0))),
         view=View(width=size, height=size),
     )
@@ -356,7 +356,8 @@ class ErrorView:
     reference_time: float
 
 
-def error_images(method: str, resolution: int, *, size: int = 256, repeats: int = 3) -> ErrorView:
+def error_images(method: str, resolution: int, *, size: int = 256, shininess: float = 200.0,
+                 repeats: int = 3) -> ErrorView:
     """Render the sphere with one method and compare it with the exact sphere.
 
     Parameters
@@ -366,6 +367,9 @@ def error_images(method: str, resolution: int, *, size: int = 256, repeats: int 
         The sphere mesh's resolution (segments around), 3 to 1024.
     size : int
         Width and height of the images in pixels, 16 to 1024.
+    shininess : float
+        The material's α (>= 0); the rest of the scene is the study's
+        (lesson 11's front matter).
     repeats : int
         Timed repeats (the median is reported).
 
@@ -385,7 +389,10 @@ def error_images(method: str, resolution: int, *, size: int = 256, repeats: int 
         raise ValueError(f"resolution: must be a whole number from 3 to 1024, got {resolution!r}")
     if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or not 16 <= size <= 1024:
         raise ValueError(f"size: must be a whole number from 16 to 1024, got {size!r}")
-    setup = default_setup(int(size))
+    try:
+        setup = default_setup(int(size), shininess)
+    except core.InvalidValue:
+        raise ValueError(f"shininess: must be a finite number >= 0, got {shininess!r}") from None
     ref = reference(setup, repeats=repeats)
     prep = prepare(setup, int(resolution))
     row, image = measure(setup, ref, prep, method, repeats=repeats)
