@@ -211,3 +211,24 @@ def test_parse_path_and_setting():
     assert parse_setting("two_sided=true") == ("two_sided", True)
     with pytest.raises(SceneError, match="PATH=VALUE"):
         parse_setting("material.shininess")
+
+
+def test_changing_a_light_type_keeps_it_where_it_was():
+    import numpy as np
+
+    from phonglab.scene import load_scene
+
+    scene = load_scene("assets/scenes/sphere.toml")
+    point = scene.lights[1]
+    assert type(point).__name__ == "PointLight", point
+    spot = scene.replace("lights[1].type", "spot").lights[1]
+    # same place, aimed at the camera's focal point, with a default cone
+    assert spot.position == point.position and spot.cutoff == 30.0, spot
+    aim = np.subtract(scene.camera.focal_point, point.position)
+    np.testing.assert_allclose(np.cross(spot.direction, aim), 0, atol=1e-12, err_msg=str(spot))
+    directional = scene.replace("lights[1].type", "directional")
+    towards = np.subtract(point.position, scene.camera.focal_point)
+    np.testing.assert_allclose(np.cross(directional.lights[1].direction, towards), 0, atol=1e-12)
+    back = directional.replace("lights[1].type", "point").lights[1]
+    # back to a point light on the same side of the scene
+    assert np.dot(np.subtract(back.position, scene.camera.focal_point), towards) > 0, back

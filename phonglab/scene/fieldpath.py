@@ -226,7 +226,8 @@ def replace_field(scene: Scene, path: str, value) -> Scene:
     ``None`` removes an optional field (``probe``, a light's ``diffuse``).
     Setting ``lights[i].homogeneous`` (or one of its four entries) turns the
     light into a point light (w > 0) or a directional one (w = 0); setting
-    ``lights[i].type`` keeps only the keys the new type has.
+    ``lights[i].type`` carries the light over (see ``_carry_light_over``) and
+    keeps only the keys the new type has.
 
     Raises
     ------
@@ -254,10 +255,39 @@ def replace_field(scene: Scene, path: str, value) -> Scene:
             light.pop("attenuation", None)  # a directional light has no distance
     elif len(parts) == 3 and parts[0] == "lights" and parts[2] == "type" and value in LIGHT_KEYS:
         light = data["lights"][parts[1]]
+        _carry_light_over(light, light_type(scene.lights[parts[1]]), value,
+                          data.get("camera", {}).get("focal_point", (0.0, 0.0, 0.0)))
         for stale in [k for k in light if k != "type" and k not in LIGHT_KEYS[value]]:
             del light[stale]
     base_dir = Path(scene.source).resolve().parent if scene.source else None
     return scene_from_dict(data, source=scene.source, base_dir=base_dir)
+
+
+#: distance from the scene's centre at which a directional light turned into a point light is placed
+CONVERTED_LIGHT_DISTANCE = 4.0
+
+
+def _carry_light_over(light: dict, old_type: str, new_type: str, centre) -> None:
+    """Fill what a light of ``new_type`` needs from what the light was, in place.
+
+    The light stays where the student put it: a point light becomes a
+    directional light shining from the same side of the scene's centre
+    (``centre`` is the camera's focal point), a directional light becomes a
+    point light at ``CONVERTED_LIGHT_DISTANCE`` along its direction, and a
+    new spotlight is aimed at the centre with a 30° cone.
+    """
+    centre = [float(c) for c in centre]
+    position, direction = light.get("position"), light.get("direction")
+    if new_type in ("point", "spot") and position is None and direction is not None:
+        norm = sum(float(c) ** 2 for c in direction) ** 0.5 or 1.0
+        light["position"] = [c + CONVERTED_LIGHT_DISTANCE * float(d) / norm for c, d in zip(centre, direction)]
+    if new_type == "directional" and position is not None:
+        towards = [float(p) - c for p, c in zip(position, centre)]
+        light["direction"] = towards if any(towards) else [0.0, 0.0, 1.0]
+    if new_type == "spot" and old_type != "spot":
+        aim = [c - float(p) for c, p in zip(centre, light["position"])]
+        light["direction"] = aim if any(aim) else [0.0, 0.0, -1.0]
+        light.setdefault("cutoff", 30.0)
 
 
 def parse_value(text: str):
