@@ -155,9 +155,8 @@ def test_replace_homogeneous_switches_the_light_kind(scene):
 def test_replace_light_type_keeps_shared_fields(scene):
     point = scene.replace("lights[3].type", "point")  # spot -> point drops the cone
     assert type(point.lights[3]) is pl.PointLight and point.lights[3].position == scene.lights[3].position
-    with pytest.raises(SceneError) as info:
-        scene.replace("lights[1].type", "spot")  # a point light has no axis to keep
-    assert str(info.value) == "lights[1].direction: is required for a spot light", str(info.value)
+    # a point light turned spot gets an axis towards the focal point (see the test below)
+    assert type(scene.replace("lights[1].type", "spot").lights[1]) is pl.SpotLight
 
 
 @pytest.mark.parametrize(
