@@ -154,6 +154,9 @@ def formulas(text: str, where: str) -> list[tuple[str, str]]:
     found = [(m, "block") for m in re.findall(r"\$\$(.+?)\$\$", text, re.DOTALL)]
     rest = re.sub(r"\$\$(.+?)\$\$", " ", text, flags=re.DOTALL)
     found += [(m, "inline") for m in re.findall(r"\$([^$\n]+?)\$", rest)]
+    for latex, kind in found:
+        # the page takes $...$ for maths only when no space follows the opening $ or precedes the closing one
+        assert kind == "block" or latex == latex.strip(), f"{where}: ${latex}$ starts or ends with a space"
     rest = re.sub(r"\$([^$\n]+?)\$", " ", rest)
     assert "$" not in rest, f"{where}: an unmatched $ near {rest[max(0, rest.find('$') - 40):rest.find('$') + 40]!r}"
     return found
