@@ -7,6 +7,7 @@ arrays that broadcast over the leading axes and keep float32 as float32.
 This package imports NumPy only: no PyVista, no trame, no file I/O.
 """
 
+from .area import AREA_METHODS, AreaLight, area_diffuse, area_irradiance, polygon_irradiance
 from .model import (
     ATTENUATION_MAX,
     DISTANCE_FLOOR,
@@ -28,4 +29,5 @@ __all__ = [
     "light_from_homogeneous",
     "LightPlan", "Plan", "ProbeVectors", "Shading", "plan_effects", "shade", "vectors",
     "dot", "normalize", "one_minus_cos", "reflect",
+    "AREA_METHODS", "AreaLight", "area_diffuse", "area_irradiance", "polygon_irradiance",
 ]

@@ -18,6 +18,7 @@ import tomllib
 from pathlib import Path
 
 from phonglab.scene.loader import (
+    AREA_LIGHT_KEYS,
     CAMERA_KEYS,
     GEOMETRY_KEYS,
     LIGHT_KEYS,
@@ -138,6 +139,10 @@ def scene_to_dict(scene: Scene) -> dict:
     }
     if scene.probe is not None:
         data["probe"] = list(scene.probe)
+    if scene.area_light is not None:
+        area = scene.area_light
+        data["area_light"] = {k: _plain(getattr(area.light, k)) for k in AREA_LIGHT_KEYS[:5]}
+        data["area_light"].update(method=area.method, samples=area.samples)
     return data
 
 
@@ -151,6 +156,8 @@ def _keys_for(data: dict, parts: list) -> tuple[str, ...] | None:
         return MATERIAL_KEYS
     if parts == ["camera"]:
         return CAMERA_KEYS
+    if parts == ["area_light"]:
+        return AREA_LIGHT_KEYS
     if len(parts) == 2 and parts[0] == "lights":
         kind = data["lights"][parts[1]]["type"]
         extra = ("homogeneous",) if kind in _HOMOGENEOUS_TYPES else ()

@@ -20,6 +20,7 @@ from pathlib import Path
 from phonglab import core
 from phonglab.scene import paths
 from phonglab.scene.model import (
+    AreaLightSetup,
     GEOMETRY_KINDS,
     INTERPOLATIONS,
     MODELS,
@@ -46,13 +47,16 @@ from phonglab.scene.toml_lines import KeyLines, render_key
 # the file format: which keys each table allows
 
 #: keys of a scene file's top level
-SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "geometry", "material", "lights", "camera")
+SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "geometry", "material", "lights", "camera",
+              "area_light")
 #: further top-level keys of a lesson's front matter
 LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake")
 GEOMETRY_KEYS = ("kind", "resolution", "name", "path")
 MATERIAL_KEYS = ("ka", "kd", "ks", "shininess", "emission", "opacity")
 MATERIAL_REQUIRED = ("ka", "kd", "ks", "shininess")
 CAMERA_KEYS = ("eye", "focal_point", "up", "view_angle", "infinite_viewer")
+#: the [area_light] table: the core AreaLight's fields, then how it is evaluated
+AREA_LIGHT_KEYS = ("position", "edge_u", "edge_v", "color", "intensity", "method", "samples")
 EXPERIMENT_KEYS = ("label", "text", "set")
 #: light type -> keys allowed in its table (besides "type")
 LIGHT_KEYS = {
@@ -329,6 +333,20 @@ def build_camera(data, problems: _Problems) -> Camera | None:
         return None
 
 
+def build_area_light(data, problems: _Problems, path="area_light") -> AreaLightSetup | None:
+    table = problems.table(path, data, AREA_LIGHT_KEYS, required=("position",))
+    if table is None or "position" not in table:
+        return None
+    light_keys = {k: v for k, v in table.items() if k not in ("method", "samples")}
+    try:
+        light = core.AreaLight(**light_keys)
+    except ValueError as exc:
+        problems.add(_core_error(exc, path, light_keys))
+        return None
+    options = {k: table[k] for k in ("method", "samples") if k in table}
+    return problems.run(AreaLightSetup, light, **options)
+
+
 def _build_scene(data: dict, problems: _Problems, *, extra_keys=(), source=None, base_dir=None) -> Scene | None:
     """Check a parsed scene table; record problems and return the Scene if there were none."""
     start = len(problems.errors)
@@ -344,6 +362,8 @@ def _build_scene(data: dict, problems: _Problems, *, extra_keys=(), source=None,
             lights.append(build_light(item, problems, f"lights[{i}]"))
     camera = build_camera(data.get("camera", {}), problems)
     options = {}
+    if "area_light" in data:
+        options["area_light"] = build_area_light(data["area_light"], problems)
     for key, check in (
         ("model", lambda p, v: check_choice(p, v, MODELS)),
         ("interpolation", lambda p, v: check_choice(p, v, INTERPOLATIONS)),

@@ -381,6 +381,38 @@ class Camera:
         return (d[0] / n, d[1] / n, d[2] / n)
 
 
+#: how an area light's contribution is evaluated (see phonglab.core.area_irradiance)
+AREA_METHODS = core.AREA_METHODS
+
+
+@dataclass(frozen=True)
+class AreaLightSetup:
+    """A scene's area light and how its integral is evaluated.
+
+    Parameters
+    ----------
+    light : phonglab.core.AreaLight
+    method : str
+        ``"exact"`` (Lambert's closed form), ``"point"`` (a point light at its
+        centre), ``"uniform"`` or ``"stratified"`` (Monte Carlo).
+    samples : int
+        Monte Carlo samples per point, 1 to 4096; a fixed seed keeps the
+        picture still while sliders move.
+    """
+
+    light: core.AreaLight
+    method: str = "exact"
+    samples: int = 64
+
+    def __post_init__(self):
+        _collect(
+            [
+                _setter(self, "method", lambda v: check_choice("area_light.method", v, AREA_METHODS)),
+                _setter(self, "samples", lambda v: check_int("area_light.samples", v, low=1, high=4096)),
+            ]
+        )
+
+
 @dataclass(frozen=True)
 class Scene:
     """Everything needed to shade and show one picture.
@@ -406,6 +438,9 @@ class Scene:
     title : str
     source : str or None
         The file the scene came from, used in error messages.
+    area_light : AreaLightSetup or None
+        An optional rectangular area light (diffuse only), with how its
+        integral over the light is evaluated.
     """
 
     geometry: Geometry
@@ -418,6 +453,7 @@ class Scene:
     probe: tuple[float, float, float] | None = None
     title: str = ""
     source: str | None = None
+    area_light: "AreaLightSetup | None" = None
 
     def __post_init__(self):
         def check_lights(value):
@@ -452,6 +488,8 @@ class Scene:
                 _setter(self, "two_sided", lambda v: check_bool("two_sided", v)),
                 _setter(self, "probe", lambda v: None if v is None else check_vector("probe", v)),
                 _setter(self, "title", lambda v: check_text("title", v)),
+                _setter(self, "area_light",
+                        lambda v: None if v is None else check_type("area_light", AreaLightSetup)(v)),
             ]
         )
 

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from phonglab import core
 from phonglab.scene.model import Scene
 
@@ -20,6 +22,14 @@ _WHERE = {
     "flat": ("flat shading", "one shade per triangle, with the triangle's normal"),
     "gouraud": ("per-vertex shading", "one shade per vertex; colours are interpolated across each triangle"),
     "pixel": ("per-pixel shading", "normals are interpolated and every pixel is shaded: one shade per pixel"),
+}
+
+
+_AREA_HOW = {
+    "exact": "diffuse light from the rectangle, exactly (Lambert's closed form for a polygon)",
+    "point": "diffuse light approximated by a point light at the rectangle's centre",
+    "uniform": "diffuse light by Monte Carlo, {samples} uniform samples of the rectangle per point",
+    "stratified": "diffuse light by Monte Carlo, {samples} stratified samples of the rectangle per point",
 }
 
 
@@ -39,6 +49,7 @@ class ScenePlan:
     computed: tuple[tuple[str, str], ...]
     skipped: tuple[tuple[str, str], ...]
     core: core.Plan
+    area_light: bool = False  # the scene's area light adds light
 
     def as_dict(self) -> dict:
         """A JSON-ready form: ``{"computed": [{"effect", "reason"}...], "skipped": [...]}``."""
@@ -83,7 +94,15 @@ def plan(scene: Scene) -> ScenePlan:
     computed.append(_WHERE[scene.interpolation])
     if scene.interpolation != "pixel":
         skipped.append(("per-pixel shading", f'interpolation is "{scene.interpolation}", not "pixel"'))
-    return ScenePlan(tuple(computed), tuple(skipped), core_plan)
+    area = scene.area_light
+    if area is None:
+        skipped.append(("area light", "the scene has none"))
+    elif not any(scene.material.kd) or not area.light.intensity or not any(area.light.color):
+        skipped.append(("area light", "k_d or its intensity is 0: it adds nothing"))
+        area = None
+    else:
+        computed.append(("area light", _AREA_HOW[area.method].format(samples=area.samples)))
+    return ScenePlan(tuple(computed), tuple(skipped), core_plan, area is not None)
 
 
 def shade(scene: Scene, points, normals, *, full: bool = False, scene_plan: ScenePlan | None = None) -> core.Shading:
@@ -103,17 +122,33 @@ def shade(scene: Scene, points, normals, *, full: bool = False, scene_plan: Scen
     phonglab.core.Shading
         ``ambient``, ``diffuse``, ``specular``, ``emission`` and ``color``.
     """
-    if full:
-        chosen = "full"
-    else:
-        chosen = (scene_plan or plan(scene)).core
-    return core.shade(
+    scene_plan = None if full else (scene_plan or plan(scene))
+    shading = core.shade(
         points,
         normals,
         material=scene.material,
         lights=scene.lights,
         model=scene.model,
         two_sided=scene.two_sided,
-        plan=chosen,
+        plan="full" if full else scene_plan.core,
         **viewer(scene),
     )
+    if scene.area_light is None or not (full or scene_plan.area_light):
+        return shading
+    return _add_area_light(scene, points, normals, shading)
+
+
+def _add_area_light(scene: Scene, points, normals, shading: core.Shading) -> core.Shading:
+    """The shading with the scene's area light added to its diffuse term and colour."""
+    normals = np.asarray(normals)
+    if scene.two_sided:  # the same flip the core makes: normals facing away from the eye
+        to_eye = (core.normalize(np.broadcast_to(scene.camera.view_direction, np.shape(points)))
+                  if scene.camera.infinite_viewer else np.subtract(scene.camera.eye, points))
+        normals = np.where((core.dot(normals, to_eye) < 0)[..., None], -normals, normals)
+    area = scene.area_light
+    # a fixed seed: Monte Carlo noise stays put while sliders move
+    extra = core.area_diffuse(points, normals, material=scene.material, light=area.light,
+                              method=area.method, samples=area.samples, seed=0)
+    extra = extra.astype(shading.color.dtype, copy=False)
+    return core.Shading(ambient=shading.ambient, diffuse=shading.diffuse + extra,
+                        specular=shading.specular, emission=shading.emission, color=shading.color + extra)
