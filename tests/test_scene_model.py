@@ -231,3 +231,21 @@ def test_changing_a_light_type_keeps_it_where_it_was():
     back = directional.replace("lights[1].type", "point").lights[1]
     # back to a point light on the same side of the scene
     assert np.dot(np.subtract(back.position, scene.camera.focal_point), towards) > 0, back
+
+
+def test_replace_many_validates_once_at_the_end():
+    from phonglab.scene import load_scene
+
+    scene = load_scene("assets/scenes/sphere.toml")
+    # each step alone is fine here, but the point is the combined result
+    spot = scene.replace_many([("lights[1].type", "spot"), ("lights[1].cutoff", 12), ("material.ks", 0.2)])
+    assert spot.lights[1].cutoff == 12 and spot.material.ks == (0.2, 0.2, 0.2), spot
+    # a state that is invalid half-way: an eye on the up axis, fixed by the next setting
+    moved = scene.replace_many([("camera.eye", [0, 4, 0]), ("camera.up", [0, 0, 1])])
+    assert moved.camera.eye == (0, 4, 0) and moved.camera.up == (0, 0, 1), moved.camera
+    with pytest.raises(SceneError) as info:
+        scene.replace("camera.eye", [0, 4, 0])
+    assert "camera" in str(info.value), str(info.value)
+    with pytest.raises(SceneError) as info:
+        scene.replace_many([("material.ks", -1), ("material.kd", 0.5)])
+    assert "material.ks" in str(info.value) and "-1" in str(info.value), str(info.value)

@@ -159,7 +159,11 @@ def _keys_for(data: dict, parts: list) -> tuple[str, ...] | None:
     if parts == ["area_light"]:
         return AREA_LIGHT_KEYS
     if len(parts) == 2 and parts[0] == "lights":
-        kind = data["lights"][parts[1]]["type"]
+        light = data["lights"][parts[1]]
+        kind = light.get("type")
+        if kind is None:  # given as homogeneous = [x, y, z, w]: w says which
+            hom = light.get("homogeneous")
+            kind = "directional" if isinstance(hom, list) and len(hom) == 4 and hom[3] == 0 else "point"
         extra = ("homogeneous",) if kind in _HOMOGENEOUS_TYPES else ()
         return ("type",) + LIGHT_KEYS[kind] + extra
     return None
@@ -242,8 +246,61 @@ def replace_field(scene: Scene, path: str, value) -> Scene:
         A bad path (naming the path and the fields allowed there) or a bad
         value (naming the path, the value and what is allowed).
     """
-    parts = parse_path(path)
     data = scene_to_dict(scene)
+    _assign(scene, data, path, value)
+    return _build(scene, data)
+
+
+def replace_fields(scene: Scene, settings) -> Scene:
+    """A copy of ``scene`` with every ``(path, value)`` of ``settings`` applied, validated once.
+
+    The settings are applied in order to the scene's table and the result is
+    checked as a whole, so an experiment may move the eye and the up vector
+    together, or turn a point light into a spotlight and set its cone, with no
+    half-done state checked in between. Errors are as in :func:`replace_field`.
+    """
+    data = scene_to_dict(scene)
+    for path, value in settings:
+        _assign(scene, data, path, value)
+    return _build(scene, data)
+
+
+def settings_problems(scene: Scene, settings) -> list[tuple[str | None, SceneError]]:
+    """Every problem of applying ``settings`` together, as ``(setting path or None, error)``.
+
+    A path that does not exist is blamed on its setting and left out; the
+    rest are applied together and the resulting scene checked once, its
+    errors blamed on the setting that wrote the field (None when no setting
+    did, e.g. a light that a type change left incomplete).
+    """
+    data = scene_to_dict(scene)
+    found: list[tuple[str | None, SceneError]] = []
+    applied = []
+    for path, value in settings:
+        try:
+            _assign(scene, data, path, value)
+            applied.append(path)
+        except SceneError as exc:
+            found.append((path, exc))
+    try:
+        _build(scene, data)
+    except SceneError as exc:
+        for error in getattr(exc, "errors", [exc]):
+            culprit = next((p for p in reversed(applied) if error.field and (
+                error.field == p or error.field.startswith((p + ".", p + "[")) or p.startswith(error.field))), None)
+            found.append((culprit, error))
+    return found
+
+
+def _build(scene: Scene, data: dict) -> Scene:
+    """The scene ``data`` describes, checked; relative mesh paths resolve as for ``scene``."""
+    base_dir = Path(scene.source).resolve().parent if scene.source else None
+    return scene_from_dict(data, source=scene.source, base_dir=base_dir)
+
+
+def _assign(scene: Scene, data: dict, path: str, value) -> None:
+    """Set ``path`` to ``value`` in ``data``, the table form of ``scene`` (checked later)."""
+    parts = parse_path(path)
     container, key = _locate(data, path, parts)
     value = _plain(value)
     if isinstance(container, list):
@@ -266,8 +323,6 @@ def replace_field(scene: Scene, path: str, value) -> Scene:
                           data.get("camera", {}).get("focal_point", (0.0, 0.0, 0.0)))
         for stale in [k for k in light if k != "type" and k not in LIGHT_KEYS[value]]:
             del light[stale]
-    base_dir = Path(scene.source).resolve().parent if scene.source else None
-    return scene_from_dict(data, source=scene.source, base_dir=base_dir)
 
 
 #: distance from the scene's centre at which a directional light turned into a point light is placed

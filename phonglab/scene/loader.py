@@ -627,27 +627,30 @@ def _build_experiment(item, where: str, scene: Scene | None, problems: _Problems
         return None
     settings = _flatten(raw)
     ok = label is not None and text is not None
-    # every setting must apply to the lesson's scene, in order
-    from phonglab.scene.fieldpath import check_path_shape
+    # the settings, applied together to the lesson's scene, must give a valid scene
+    from phonglab.scene.fieldpath import check_path_shape, settings_problems
 
-    trial = scene
-    for path, value in settings:
-        try:
-            if trial is None:  # the scene is broken: check the path alone
+    set_path = join_path(where, "set")
+    if scene is None:  # the scene is broken: check the paths alone
+        found = []
+        for path, _ in settings:
+            try:
                 check_path_shape(path)
-            else:
-                trial = trial.replace(path, value)
-        except SceneError as exc:
-            ok = False
-            for error in exc.errors if isinstance(exc, SceneErrors) else [exc]:
-                problems.add(
-                    SceneError(
-                        (f"{error.field}: " if error.field and error.field != path else "") + error.problem,
-                        field=join_path(join_path(where, "set"), render_key(path)),
-                        value=error.value,
-                        hint=error.hint,
-                    )
+            except SceneError as exc:
+                found.append((path, exc))
+    else:
+        found = settings_problems(scene, settings)
+    for culprit, error in found:
+        ok = False
+        for one in getattr(error, "errors", [error]):
+            problems.add(
+                SceneError(
+                    (f"{one.field}: " if one.field and one.field != culprit else "") + one.problem,
+                    field=join_path(set_path, render_key(culprit)) if culprit else set_path,
+                    value=one.value,
+                    hint=one.hint,
                 )
+            )
     return Experiment(label=label, text=text, settings=tuple(settings)) if ok else None
 
 

@@ -524,6 +524,17 @@ class Scene:
 
         return replace_field(self, path, value)
 
+    def replace_many(self, settings) -> "Scene":
+        """A copy with every ``(path, value)`` in ``settings`` applied, then validated once.
+
+        Use it for a lesson's experiment: the settings may pass through states
+        that are invalid on their own (a point light becoming a spotlight,
+        then getting its cone), as long as the end result is valid.
+        """
+        from phonglab.scene.fieldpath import replace_fields
+
+        return replace_fields(self, settings)
+
 
 @dataclass(frozen=True)
 class Experiment:
