@@ -368,3 +368,16 @@ def test_error_message_shape():
     error = SceneError("must be a finite number >= 0", field="material.shininess", value=-3, file="lessons/03-specular.md", line=7)
     assert str(error) == "lessons/03-specular.md:7: material.shininess: must be a finite number >= 0, got -3"
     assert re.fullmatch(r"a: must be x", str(SceneError("must be x", field="a")))
+
+
+def test_lesson_mistake_must_name_a_teaching_variant(tmp_path):
+    from phonglab.scene import load_lesson
+
+    text = Path("lessons/03-diffuse.md").read_text(encoding="utf-8")
+    assert 'mistake = "no-clamp-diffuse"' in text
+    bad = tmp_path / "03-diffuse.md"
+    bad.write_text(text.replace('mistake = "no-clamp-diffuse"', 'mistake = "no-max"'), encoding="utf-8")
+    with pytest.raises(SceneError) as info:
+        load_lesson(bad)
+    message = str(info.value)
+    assert "mistake" in message and '"no-max"' in message and "no-clamp-diffuse" in message, message

@@ -556,7 +556,9 @@ def load_lesson(path) -> Lesson:
         texts[key] = problems.run(check_text, key, data.get(key, "")) or ""
     mistake = data.get("mistake")
     if mistake is not None:
-        mistake = problems.run(check_text, "mistake", mistake)
+        from phonglab.teaching.mistakes import MISTAKES  # NumPy-only; no cycle back to scene
+
+        mistake = problems.run(check_choice, "mistake", mistake, tuple(MISTAKES))
 
     controls = []
     raw_controls = data.get("controls", [])
