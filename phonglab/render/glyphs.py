@@ -32,10 +32,12 @@ VECTORS = {
 EYE_COLOR = (235, 235, 235)
 PUPIL_COLOR = (40, 40, 48)
 
-#: arrow sizes in world units (meshes fit the unit sphere)
-ARROW_LENGTH = 0.62
+#: length of the arrows N, L, R, V, H as a fraction of the mesh's bounding radius
+ARROW_FRACTION = 0.5
+#: arrow thickness in world units
 SHAFT_RADIUS = 0.018
 TIP_RADIUS = 0.05
+#: length of an arrow's head as a fraction of the arrow's length
 TIP_LENGTH = 0.3
 LIGHT_MARKER_SIZE = 0.09
 
@@ -116,8 +118,30 @@ def _colored(mesh: pv.PolyData, base_rgb, view_direction, shaded: bool = True) -
     return out
 
 
-def arrow(start, direction, color, view_direction, length: float = ARROW_LENGTH) -> pv.PolyData:
-    """An arrow from ``start`` along ``direction``, ``length`` long, coloured ``color``."""
+def bounding_radius(mesh: pv.PolyData) -> float:
+    """The largest distance of a mesh point from the centre of the mesh's bounding box.
+
+    Returns 1.0 for an empty or single-point mesh (the size every mesh is scaled to).
+    """
+    points = np.asarray(mesh.points, dtype=np.float64)
+    if len(points) == 0:
+        return 1.0
+    centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
+    radius = float(np.sqrt(((points - centre) ** 2).sum(axis=1).max()))
+    return radius if radius > 0 else 1.0
+
+
+def arrow_length(mesh: pv.PolyData) -> float:
+    """How long the arrows N, L, R, V, H are drawn on ``mesh``: :data:`ARROW_FRACTION` of its bounding radius."""
+    return ARROW_FRACTION * bounding_radius(mesh)
+
+
+def arrow(start, direction, color, view_direction, length: float = ARROW_FRACTION) -> pv.PolyData:
+    """An arrow from ``start`` along ``direction``, ``length`` long, coloured ``color``.
+
+    The shaft and head radii are :data:`SHAFT_RADIUS` and :data:`TIP_RADIUS`
+    whatever the length (world units; meshes fit about the unit sphere).
+    """
     mesh = pv.Arrow(
         start=tuple(np.asarray(start, dtype=float)),
         direction=tuple(_unit(direction)),

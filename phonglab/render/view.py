@@ -4,7 +4,8 @@ What the window holds:
 
 * the mesh, coloured by the core (RGB scalars, VTK lighting off): per face
   (flat) or per vertex (gouraud, and pixel mode's preview);
-* arrows N, L, R, V, H at the probe point, in fixed colours;
+* arrows N, L, R, V, H at the probe point, in fixed colours, half as long
+  as the mesh's bounding radius;
 * a marker per light (a sphere for a point light, a cone for a spotlight,
   three parallel arrows for a directional light) and an eye marker (shown
   only when the VTK camera has left the scene's eye);
@@ -16,12 +17,19 @@ array, so the geometry and colours are all a browser needs (trame-vtk's
 local view). :meth:`SceneView.update` changes arrays in place: moving a slider
 never adds an actor.
 
+Framing: the camera stays at the scene's eye and looks where the scene says;
+when arrows are shown and a tip (with the letter beyond it) would leave the
+window, the view angle is widened just enough to hold it. Nothing else
+about the camera changes, and a change of material never refits it.
+
 Directions point *away from the surface point*: every arrow starts at the probe.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
+import math
 
 import numpy as np
 import pyvista as pv
@@ -31,7 +39,7 @@ from PIL import Image
 from phonglab import core
 from phonglab.render import _files, glyphs, shading
 from phonglab.render._vtk import eye_distance, make_render_window, read_depth, read_rgb, set_camera
-from phonglab.render.annotate import draw_labels, draw_legend
+from phonglab.render.annotate import draw_labels, draw_legend, font
 from phonglab.render.gbuffer import GBufferRenderer
 from phonglab.render.mesh import build_mesh, ray_hit, surface_point
 
@@ -39,6 +47,10 @@ from phonglab.render.mesh import build_mesh, ray_hit, surface_point
 BACKGROUND = (0.13, 0.14, 0.17)
 #: the VTK camera counts as "at the eye" within this distance; the eye marker is hidden then
 EYE_MARKER_MIN_DISTANCE = 0.5
+#: the widest view angle (degrees) the framing of the arrows may choose
+MAX_VIEW_ANGLE = 120.0
+#: free border around the arrows and their letters, as a fraction of the window's shorter side
+FRAME_PAD = 0.02
 
 
 def _array_to_vtk_in_place(owner, name: str, values: np.ndarray) -> None:
@@ -94,6 +106,8 @@ class SceneView:
     renderer : vtkRenderer
     scene : Scene
         The scene shown now.
+    arrow_length : float
+        Length of the arrows in world units (half the mesh's bounding radius).
     """
 
     def __init__(
@@ -207,6 +221,7 @@ class SceneView:
         mesh.point_data.active_scalars_name = glyphs.COLOR_ARRAY
         mesh.cell_data.active_scalars_name = glyphs.COLOR_ARRAY
         self.mesh = mesh
+        self.arrow_length = glyphs.arrow_length(mesh)
         self._mapper.SetInputData(mesh)
         self._mapper.SetColorModeToDirectScalars()
         self._mapper.ScalarVisibilityOn()
@@ -308,6 +323,7 @@ class SceneView:
             actor.GetTextProperty().SetFontSize(max(12, int(size[1]) // 24))
         if self._legend_actor is not None:
             self._legend_actor.GetTextProperty().SetFontSize(max(10, int(size[1]) // 38))
+        self._fit_view_angle()
 
     def _recolor(self) -> None:
         """Recompute the mesh colours with the core and write them into the arrays."""
@@ -351,9 +367,10 @@ class SceneView:
         for letter, (data, actor) in self._arrows.items():
             shown = letter in self._letters and letter in directions
             if shown:
-                data.ShallowCopy(glyphs.arrow(point, directions[letter], glyphs.VECTORS[letter][0], view_direction))
+                data.ShallowCopy(glyphs.arrow(point, directions[letter], glyphs.VECTORS[letter][0], view_direction,
+                                              length=self.arrow_length))
                 data.Modified()
-                tip = point + directions[letter] * glyphs.ARROW_LENGTH * 1.12
+                tip = point + directions[letter] * self.arrow_length * 1.12
                 if letter in self._labels:
                     self._labels[letter].SetPosition(*tip)
             actor.SetVisibility(bool(shown))
@@ -364,6 +381,109 @@ class SceneView:
         if self._legend_actor is not None:
             self._legend_actor.SetInput("\n".join(entries))
             self._legend_actor.SetVisibility(bool(entries) and self.show_labels)
+        self._fit_view_angle()
+
+    # ------------------------------------------------------------------
+    # framing the arrows
+
+    def _shown_letters(self) -> list[str]:
+        return [letter for letter in self._letters if letter in self._directions]
+
+    def _fit_view_angle(self) -> None:
+        """Set the VTK camera's view angle: the scene's, widened if the arrows would leave the window.
+
+        The camera's position, focal point and up vector are left alone. The
+        view angle spans the shorter side of the window (see :meth:`render`).
+        """
+        camera = self.renderer.GetActiveCamera()
+        width, height = self.render_window.GetSize()
+        camera.SetUseHorizontalViewAngle(bool(width < height))
+        angle = float(self.scene.camera.view_angle)
+        if self._shown_letters():
+            angle = max(angle, self._angle_for_arrows(camera, width, height))
+        if camera.GetViewAngle() != angle:
+            camera.SetViewAngle(angle)
+
+    def _angle_for_arrows(self, camera, width: int, height: int) -> float:
+        """The smallest view angle (degrees) that shows the arrows' tips with their letters.
+
+        Each tip is taken as a small ball (the arrow head's radius) around
+        it. Seen from the eye, a ball at screen-axis offset ``c`` and depth
+        ``z`` with radius ``ρ`` spans the angles
+        :math:`\\arctan(c / z) \\pm \\arcsin(\\rho / \\sqrt{c^2 + z^2})` along that
+        axis; the window must hold those spans plus, in pixels, the letters
+        drawn beyond the tips and a free border.
+        """
+        eye = np.asarray(camera.GetPosition(), dtype=float)
+        forward = np.asarray(camera.GetFocalPoint(), dtype=float) - eye
+        forward /= np.linalg.norm(forward)
+        right = np.cross(forward, camera.GetViewUp())
+        right /= np.linalg.norm(right)
+        up = np.cross(right, forward)
+        head = glyphs.TIP_RADIUS
+
+        def reach(c: float, depth: float, radius: float) -> float | None:
+            # largest |tan| of a ball's span along one screen axis; None when the ball is not in front of the eye
+            distance = math.hypot(c, depth)
+            if depth <= 0 or distance <= radius:
+                return None
+            centre, half = math.atan2(c, depth), math.asin(radius / distance)
+            if abs(centre) + half >= math.pi / 2:
+                return None
+            return max(abs(math.tan(centre - half)), abs(math.tan(centre + half)))
+
+        tan_x = tan_y = 0.0
+        for letter in self._shown_letters():
+            tip = self._probe_point + self._directions[letter] * self.arrow_length - eye
+            depth = float(tip @ forward)
+            rx, ry = reach(float(tip @ right), depth, head), reach(float(tip @ up), depth, head)
+            if rx is None or ry is None:
+                return MAX_VIEW_ANGLE
+            tan_x, tan_y = max(tan_x, rx), max(tan_y, ry)
+        # the letters beyond the tips and a free border, as fractions of the half window
+        border = (self._label_reach(height) if self.show_labels else 0.0) + FRAME_PAD * min(width, height)
+        keep_x = max(0.5, 1.0 - border / (width / 2))
+        keep_y = max(0.5, 1.0 - border / (height / 2))
+        aspect = width / height
+        if width < height:
+            # the view angle spans the width
+            half_tan = max(tan_x / keep_x, tan_y * aspect / keep_y)
+        else:
+            half_tan = max(tan_y / keep_y, tan_x / (aspect * keep_x))
+        return min(MAX_VIEW_ANGLE, math.degrees(2.0 * math.atan(half_tan)))
+
+    def _label_reach(self, height: int) -> float:
+        """How far (pixels) a letter drawn by :func:`~phonglab.render.annotate.draw_labels` reaches past its tip."""
+        size, offset, half = _label_metrics(height, self._shown_letters() or ["N"])
+        return offset + half + max(1, size // 10) + 2.0
+
+    def vector_marks(self) -> dict[str, tuple[tuple[float, float], tuple[float, float, float, float]]]:
+        """Where each shown arrow's tip and letter land on an image of the current window.
+
+        Returns
+        -------
+        dict
+            letter -> ``((x, y), (left, top, right, bottom))``: the projected
+            tip and the box of its letter as
+            :func:`~phonglab.render.annotate.draw_labels` places it (before
+            any nudging), in image pixels with row 0 at the top.
+        """
+        self._fit_view_angle()
+        self.renderer.ResetCameraClippingRange()
+        width, height = self.render_window.GetSize()
+        letters = self._shown_letters()
+        size, offset, half = _label_metrics(height, letters or ["N"])
+        base = np.asarray(self._to_image(self._probe_point, height))
+        marks = {}
+        for letter in letters:
+            tip = np.asarray(self._to_image(self._probe_point + self._directions[letter] * self.arrow_length, height))
+            d = tip - base
+            norm = np.linalg.norm(d)
+            d = d / norm if norm > 1e-9 else np.array([0.0, -1.0])
+            centre = tip + d * offset
+            box = (centre[0] - half, centre[1] - half, centre[0] + half, centre[1] + half)
+            marks[letter] = ((float(tip[0]), float(tip[1])), tuple(float(v) for v in box))
+        return marks
 
     def _update_light_markers(self) -> None:
         """One marker per light; actors are reused, added only if the number of lights grows."""
@@ -401,11 +521,11 @@ class SceneView:
 
         The scene's view angle spans the *shorter* side of the window: the
         height of a wide window (VTK's usual vertical angle), the width of a
-        tall one, so that a tall panel does not crop the mesh.
+        tall one, so that a tall panel does not crop the mesh. With arrows
+        shown, it is widened if needed to hold them (see the module notes).
         """
         self._sync_eye_visibility()
-        width, height = self.render_window.GetSize()
-        self.renderer.GetActiveCamera().SetUseHorizontalViewAngle(bool(width < height))
+        self._fit_view_angle()
         self.renderer.ResetCameraClippingRange()
         self.render_window.Render()
 
@@ -479,7 +599,7 @@ class SceneView:
         for letter in self._letters:
             if letter not in self._directions:
                 continue
-            tip = point + self._directions[letter] * glyphs.ARROW_LENGTH
+            tip = point + self._directions[letter] * self.arrow_length
             x, y = self._to_image(tip, height)
             bx, by = self._to_image(point, height)
             labels.append((letter, (x, y), (x - bx, y - by), glyphs.VECTORS[letter][0]))
@@ -563,6 +683,20 @@ class SceneView:
         if self._gbuffer_renderer is not None:
             self._gbuffer_renderer.close()
         self.render_window.Finalize()
+
+
+@functools.lru_cache(maxsize=64)
+def _letter_metrics(height: int, letters: str) -> tuple[int, float, float]:
+    size = max(12, round(height / 24))
+    fnt = font(size, bold=True)
+    # draw_labels: half-extent of the letter from its anchor, and the centre's distance from the tip
+    extent = max(max(fnt.getbbox(letter, anchor="mm")[2:]) for letter in letters)
+    return size, 0.45 * size + 0.6 * extent, float(extent)
+
+
+def _label_metrics(height: int, letters) -> tuple[int, float, float]:
+    """For letters drawn on an image ``height`` pixels tall: (font size, centre beyond the tip, half extent)."""
+    return _letter_metrics(int(height), "".join(sorted(letters)))
 
 
 def save_png(image: np.ndarray, path) -> None:
