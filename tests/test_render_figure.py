@@ -109,6 +109,28 @@ def test_terms_figure_is_written(tmp_path):
     assert read_png(out).shape == (300, 400, 3)
 
 
+@pytest.mark.parametrize(
+    "changes, expected",
+    [({}, "0.02"),  # k_a = 0.1 under an ambient light of intensity 0.2
+     ({"material.ka": [0.3, 0.1, 0.05]}, "(0.06, 0.02, 0.01)"),
+     ({"lights[0].intensity": 0.0}, "0")],
+)
+def test_ambient_panel_label_states_ka_ia(changes, expected):
+    import matplotlib.pyplot as plt
+
+    from phonglab.render import figures
+
+    s = scene(**changes)
+    assert figures.ambient_value(s) == expected, f"{changes}: {figures.ambient_value(s)!r}"
+    fig = figures._terms_figure(s, (240, 180), "", 1, figures.BACKGROUND, None)
+    try:
+        labels = [t.get_text() for t in fig.texts]
+    finally:
+        plt.close(fig)
+    ambient = [t for t in labels if t.startswith("ambient")]
+    assert len(ambient) == 1 and ambient[0].endswith(f"= {expected}"), f"{changes}: labels {labels}"
+
+
 @pytest.mark.parametrize("kind", ["lobe", "lambert", "incidence"])
 @pytest.mark.parametrize("ext", [".png", ".svg", ".pdf"])
 def test_plots_in_every_format(tmp_path, kind, ext):

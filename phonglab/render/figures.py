@@ -492,7 +492,7 @@ def _terms_figure(scene, size, letters, supersample, background, progress):
     """Ambient, diffuse, specular and their sum, labelled with their formulas."""
     spec = r"\max(0,\,n\cdot h)^{\alpha}" if scene.model == "blinn-phong" else r"\max(0,\,r\cdot v)^{\alpha}"
     terms = [
-        ("ambient", "ambient", r"$k_a I_a$"),
+        ("ambient", "ambient", rf"$k_a I_a$ = {ambient_value(scene)}"),
         ("diffuse", "diffuse", r"$k_d I_d \max(0,\,n\cdot l)$"),
         ("specular", "specular", rf"$k_s I_s {spec}$"),
         ("color", "sum", "all three + emission" if any(scene.material.emission) else "all three added"),
@@ -511,6 +511,21 @@ def _terms_figure(scene, size, letters, supersample, background, progress):
                  fontsize=fs, color="white", linespacing=1.5,
                  bbox=dict(boxstyle="round,pad=0.3", facecolor=(0, 0, 0, 0.45), edgecolor="none"))
     return fig
+
+
+def ambient_value(scene) -> str:
+    """The scene's constant ambient term :math:`k_a \\circ I_a` as text: ``0.02``, or ``(0.08, 0.03, 0.02)``.
+
+    Taken from the core (one shaded point), so it is the value the ambient
+    panel shows; one number when the three channels agree.
+    """
+    from phonglab.render import shading
+
+    point = np.array([[0.0, 0.0, 1.0]])
+    ambient = np.asarray(shading.shade(scene, point, point).ambient, dtype=float).reshape(-1, 3)[0]
+    if np.allclose(ambient, ambient[0], rtol=0, atol=5e-4):
+        return f"{ambient[0]:.3g}"
+    return "(" + ", ".join(f"{c:.3g}" for c in ambient) + ")"
 
 
 def _sweep_figure(scene, sweeps, size, letters, supersample, background, progress):
