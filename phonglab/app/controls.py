@@ -15,9 +15,11 @@ student thinks of it and are named like fields (see :mod:`phonglab.app.keys`):
 * ``material.kd.level`` and ``material.kd.color``: an RGB coefficient as a
   strength (its largest channel, a slider) times a hue (a colour picker);
 * ``lights[i].azimuth`` / ``elevation`` / ``distance``: a light's place
-  around the scene's focal point (azimuth from +z towards +x about the up
-  axis +y, elevation above the xz plane, both in degrees). For a directional
-  light azimuth and elevation give the direction towards the light;
+  around the scene's focal point, in degrees, in a :class:`Frame` taken from
+  the lesson's camera (elevation above the plane across its up vector,
+  azimuth 0 towards the eye, +90° to the right). For a directional light
+  azimuth and elevation give the direction towards the light;
+* ``camera.azimuth`` / ``elevation`` / ``distance``: the eye, the same way;
 * ``lights[i].type``: point, directional or spot; the light keeps its place;
 * ``view.term``: which term the mesh shows (a view option, not a scene field).
 
@@ -173,7 +175,7 @@ class Control:
         try:
             return self.write(scene, value, dict(options))
         except SceneError as exc:
-            raise ControlError(f"{self.path}: {_scene_reason(exc)}") from None
+            raise ControlError(f"{self.path}: {_scene_reason(exc, self.path)}") from None
         except (ValueError, TypeError, ArithmeticError) as exc:  # core validation
             raise ControlError(f"{self.path}: {exc}") from None
 
@@ -229,13 +231,16 @@ def _show(value) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _scene_reason(exc: SceneError) -> str:
-    """The part of a SceneError that helps a student: problem, value, hint."""
+def _scene_reason(exc: SceneError, path: str = "") -> str:
+    """The part of a SceneError that helps a student: problem, value, hint.
+
+    The error's field is left out when it is the control's own (or contains it).
+    """
     errors = getattr(exc, "errors", None) or [exc]
     parts = []
     for e in errors:
         text = e.problem
-        if e.field:
+        if e.field and not (path.startswith(e.field) or e.field.startswith(path)):
             text = f"{e.field}: {text}"
         if e.has_value:
             text += f", got {_show(e.value)}"
@@ -271,33 +276,74 @@ def split_level(rgb) -> tuple[float, tuple[float, float, float]]:
 # light placement
 
 
-def light_place(light, focal) -> tuple[float, float, float]:
+@dataclass(frozen=True)
+class Frame:
+    """The axes azimuth and elevation are measured in.
+
+    ``up`` is the vertical axis (the lesson camera's up), ``front`` the
+    direction of azimuth 0 (towards the lesson's eye, flattened onto the
+    horizontal plane) and ``right`` the direction of azimuth +90°.
+    """
+
+    up: tuple = (0.0, 1.0, 0.0)
+    front: tuple = (0.0, 0.0, 1.0)
+    right: tuple = (1.0, 0.0, 0.0)
+
+    @classmethod
+    def of_camera(cls, camera) -> "Frame":
+        """The frame of a scene camera: vertical along ``up``, azimuth 0 towards the eye."""
+        up = _unit(camera.up)
+        towards_eye = [e - f for e, f in zip(camera.eye, camera.focal_point)]
+        front = _unit(_reject(towards_eye, up))
+        if front is None:  # looking straight along up: any horizontal direction
+            trial = (0.0, 0.0, 1.0) if abs(up[2]) < 0.9 else (1.0, 0.0, 0.0)
+            front = _unit(_reject(trial, up))
+        right = _cross(up, front)
+        return cls(up=up, front=front, right=right)
+
+
+def _unit(v):
+    n = math.sqrt(sum(c * c for c in v))
+    return tuple(c / n for c in v) if n > 1e-12 else None
+
+
+def _reject(v, axis):
+    d = sum(a * b for a, b in zip(v, axis))
+    return [a - d * b for a, b in zip(v, axis)]
+
+
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def place_of(offset, frame: Frame) -> tuple[float, float, float]:
+    """(azimuth°, elevation°, length) of an offset in ``frame``."""
+    length = math.sqrt(sum(c * c for c in offset))
+    if length == 0:
+        return 0.0, 0.0, 0.0
+    x = sum(a * b for a, b in zip(offset, frame.right)) / length
+    y = sum(a * b for a, b in zip(offset, frame.up)) / length
+    z = sum(a * b for a, b in zip(offset, frame.front)) / length
+    return math.degrees(math.atan2(x, z)), math.degrees(math.asin(max(-1.0, min(1.0, y)))), length
+
+
+def place_offset(azimuth: float, elevation: float, distance: float, frame: Frame) -> tuple[float, float, float]:
+    """The offset for azimuth°, elevation° and distance in ``frame``."""
+    a, e = math.radians(azimuth), math.radians(elevation)
+    x, y, z = math.cos(e) * math.sin(a), math.sin(e), math.cos(e) * math.cos(a)
+    return tuple(distance * (x * r + y * u + z * f) for r, u, f in zip(frame.right, frame.up, frame.front))
+
+
+def light_place(light, focal, frame: Frame) -> tuple[float, float, float]:
     """(azimuth°, elevation°, distance) of a light around the focal point.
 
     A directional light's direction (towards the light) gives azimuth and
     elevation; its distance is reported as 0.
     """
     if isinstance(light, core.DirectionalLight):
-        d = light.direction
-        distance = 0.0
-    else:
-        d = tuple(p - f for p, f in zip(light.position, focal))
-        distance = math.sqrt(sum(c * c for c in d))
-    length = math.sqrt(sum(c * c for c in d)) or 1.0
-    x, y, z = (c / length for c in d)
-    azimuth = math.degrees(math.atan2(x, z))
-    elevation = math.degrees(math.asin(max(-1.0, min(1.0, y))))
-    return azimuth, elevation, distance
-
-
-def place_offset(azimuth: float, elevation: float, distance: float) -> tuple[float, float, float]:
-    """The offset from the focal point for azimuth°, elevation° and distance."""
-    a, e = math.radians(azimuth), math.radians(elevation)
-    return (
-        distance * math.cos(e) * math.sin(a),
-        distance * math.sin(e),
-        distance * math.cos(e) * math.cos(a),
-    )
+        az, el, _ = place_of(light.direction, frame)
+        return az, el, 0.0
+    return place_of([p - f for p, f in zip(light.position, focal)], frame)
 
 
 def _aims_at(light, focal) -> bool:
@@ -315,44 +361,47 @@ def _light_table(scene, index) -> dict:
     return field_value(scene, f"lights[{index}]")
 
 
-def _move_light(scene, index, azimuth=None, elevation=None, distance=None):
+def _move_light(scene, index, frame, azimuth=None, elevation=None, distance=None):
     """The scene with light ``index`` moved to new azimuth/elevation/distance (None: keep)."""
     light = scene.lights[index]
     focal = scene.camera.focal_point
-    az, el, dist = light_place(light, focal)
+    az, el, dist = light_place(light, focal, frame)
     az = az if azimuth is None else azimuth
     el = el if elevation is None else elevation
     dist = dist if distance is None else distance
     table = _light_table(scene, index)
+    table.pop("homogeneous", None)
     if isinstance(light, core.DirectionalLight):
-        table["direction"] = list(place_offset(az, el, 1.0))
+        table.pop("position", None)
+        table["type"] = "directional"
+        table["direction"] = list(place_offset(az, el, 1.0, frame))
     else:
         if dist <= 0:
             raise ControlError(f"lights[{index}].distance: must be > 0, got {dist:g}")
-        offset = place_offset(az, el, dist)
-        position = [f + o for f, o in zip(focal, offset)]
+        offset = place_offset(az, el, dist, frame)
         if isinstance(light, core.SpotLight) and _aims_at(light, focal):
             # a spot aimed at the focal point stays aimed at it
             table["direction"] = [-o for o in offset]
-        table["position"] = position
+        table["type"] = "spot" if isinstance(light, core.SpotLight) else "point"
+        table["position"] = [f + o for f, o in zip(focal, offset)]
     return scene.replace(f"lights[{index}]", table)
 
 
-def _retype_light(scene, index, kind):
+def _retype_light(scene, index, kind, frame):
     """The scene with light ``index`` turned into a ``kind`` light at the same place."""
     light = scene.lights[index]
     old = _light_table(scene, index)
-    if old["type"] == kind:
+    if _light_kind(light) == kind:
         return scene
     focal = scene.camera.focal_point
-    az, el, dist = light_place(light, focal)
+    az, el, dist = light_place(light, focal, frame)
     if dist <= 0:
         dist = max(3.0, math.dist(scene.camera.eye, focal))
     table = {k: old[k] for k in ("color", "intensity", "diffuse", "specular") if k in old}
     table["type"] = kind
-    offset = place_offset(az, el, dist)
+    offset = place_offset(az, el, dist, frame)
     if kind == "directional":
-        table["direction"] = list(place_offset(az, el, 1.0))
+        table["direction"] = list(place_offset(az, el, 1.0, frame))
     else:
         table["position"] = [f + o for f, o in zip(focal, offset)]
         table["attenuation"] = old.get("attenuation", [1.0, 0.0, 0.0])
@@ -360,6 +409,28 @@ def _retype_light(scene, index, kind):
             table["direction"] = [-o for o in offset]
             table.update(SPOT_DEFAULTS)
     return scene.replace(f"lights[{index}]", table)
+
+
+def _light_kind(light) -> str:
+    if isinstance(light, core.SpotLight):
+        return "spot"
+    if isinstance(light, core.PointLight):
+        return "point"
+    if isinstance(light, core.DirectionalLight):
+        return "directional"
+    return "ambient"
+
+
+def _move_eye(scene, frame, azimuth=None, elevation=None, distance=None):
+    """The scene with the eye moved around the focal point."""
+    camera = scene.camera
+    offset = [e - f for e, f in zip(camera.eye, camera.focal_point)]
+    az, el, dist = place_of(offset, frame)
+    az = az if azimuth is None else azimuth
+    el = el if elevation is None else elevation
+    dist = dist if distance is None else distance
+    eye = [f + o for f, o in zip(camera.focal_point, place_offset(az, el, dist, frame))]
+    return scene.replace("camera.eye", eye)
 
 
 # ---------------------------------------------------------------------------
@@ -420,7 +491,7 @@ def _shininess(group: str) -> Control:
                    low=low, high=high, step=0.01, fmt="alpha", group=group)
 
 
-def _light_controls(scene, index: int) -> list[Control]:
+def _light_controls(scene, index: int, frame: Frame) -> list[Control]:
     light = scene.lights[index]
     base = f"lights[{index}]"
     group = f"Light {index}"
@@ -429,21 +500,21 @@ def _light_controls(scene, index: int) -> list[Control]:
         group = f"Ambient light {index}"
     else:
         def type_read(scene, options, index=index):
-            return _light_table(scene, index)["type"]
+            return _light_kind(scene.lights[index])
 
         def type_write(scene, value, options, index=index):
-            return _retype_light(scene, index, value), options
+            return _retype_light(scene, index, value, frame), options
 
-        controls.append(Control(path=f"{base}.type", label="type", kind="select", read=type_read, write=type_write,
+        controls.append(Control(path=f"{base}.type", label="type (w = 1 point, w = 0 directional)", kind="select", read=type_read, write=type_write,
                                 items=LIGHT_TYPES, group=group))
 
         def place(which):
             def read(scene, options, index=index):
-                return light_place(scene.lights[index], scene.camera.focal_point)[which]
+                return light_place(scene.lights[index], scene.camera.focal_point, frame)[which]
 
             def write(scene, value, options, index=index):
                 kwargs = {("azimuth", "elevation", "distance")[which]: value}
-                return _move_light(scene, index, **kwargs), options
+                return _move_light(scene, index, frame, **kwargs), options
 
             return read, write
 
@@ -476,8 +547,27 @@ def _light_controls(scene, index: int) -> list[Control]:
             controls.append(_field(f"{base}.attenuation[{i}]", f"attenuation {name}", "slider",
                                    low=0.0, high=high, step=step, fmt="{:.3f}", group=group))
     if isinstance(light, core.SpotLight):
-        controls.append(_field(f"{base}.cutoff", "cutoff", "slider", low=1.0, high=90.0, step=1.0, unit="°",
-                               fmt="{:.0f}", group=group))
+        def cutoff_read(scene, options, index=index):
+            return min(scene.lights[index].cutoff, 90.0)
+
+        def cutoff_write(scene, value, options, base=base):
+            return scene.replace(f"{base}.cutoff", value), options
+
+        def cone_read(scene, options, index=index):
+            return scene.lights[index].cutoff == 180.0
+
+        def cone_write(scene, value, options, base=base, index=index):
+            key = f"cutoff:{base}"
+            if value:  # remember the cone for when it comes back
+                options[key] = min(scene.lights[index].cutoff, 90.0)
+                return scene.replace(f"{base}.cutoff", 180.0), options
+            return scene.replace(f"{base}.cutoff", options.get(key, SPOT_DEFAULTS["cutoff"])), options
+
+        controls.append(Control(path=f"{base}.cutoff", label="cutoff", kind="slider", read=cutoff_read,
+                                write=cutoff_write, low=1.0, high=90.0, step=1.0, unit="°", fmt="{:.0f}",
+                                group=group))
+        controls.append(Control(path=f"{base}.no_cone", label="no cone (cutoff 180°: a point light)",
+                                kind="switch", read=cone_read, write=cone_write, group=group))
         controls.append(_field(f"{base}.exponent", "spot exponent", "slider", low=0.0, high=128.0, step=0.5,
                                fmt="{:.1f}", group=group))
     return controls
@@ -495,14 +585,58 @@ def _term() -> Control:
                    group="View")
 
 
-def scene_controls(scene) -> list[Control]:
-    """Every control for ``scene``, grouped: material, lights, shading, view."""
+def _eye_controls(frame: Frame) -> list[Control]:
+    controls = []
+    for which, (name, low, high, step, unit) in enumerate(
+        (("azimuth", -180.0, 180.0, 1.0, "°"), ("elevation", -89.0, 89.0, 1.0, "°"), ("distance", 1.5, 20.0, 0.05, ""))
+    ):
+        def read(scene, options, which=which):
+            offset = [e - f for e, f in zip(scene.camera.eye, scene.camera.focal_point)]
+            return place_of(offset, frame)[which]
+
+        def write(scene, value, options, name=name):
+            return _move_eye(scene, frame, **{name: value}), options
+
+        controls.append(Control(path=f"camera.{name}", label=f"eye {name}", kind="slider", read=read, write=write,
+                                low=low, high=high, step=step, unit=unit,
+                                fmt="{:.0f}" if unit else "{:.2f}", group="Eye"))
+    return controls
+
+
+def _geometry_controls(scene) -> list[Control]:
+    from phonglab.scene import PARAMETRIC_KINDS
+
+    if scene.geometry.kind not in PARAMETRIC_KINDS:
+        return []
+
+    def read(scene, options):
+        return float(scene.geometry.resolution)
+
+    def write(scene, value, options):
+        return scene.replace("geometry.resolution", int(round(value))), options
+
+    return [
+        _field("geometry.kind", "shape", "select", items=tuple((k, k.capitalize()) for k in PARAMETRIC_KINDS),
+               group="Shape"),
+        Control(path="geometry.resolution", label="resolution (segments around)", kind="slider", read=read,
+                write=write, low=4.0, high=256.0, step=1.0, fmt="{:.0f}", group="Shape"),
+    ]
+
+
+def scene_controls(scene, frame: Frame | None = None) -> list[Control]:
+    """Every control for ``scene``, grouped: material, lights, eye, shape, shading, view.
+
+    ``frame`` sets the axes of azimuth and elevation (default: the scene camera's).
+    """
+    frame = frame or Frame.of_camera(scene.camera)
     controls = []
     for name, symbol in (("ka", "k_a"), ("kd", "k_d"), ("ks", "k_s")):
         controls += _coefficient(name, symbol, "Material")
     controls.append(_shininess("Material"))
     for index in range(len(scene.lights)):
-        controls += _light_controls(scene, index)
+        controls += _light_controls(scene, index, frame)
+    controls += _eye_controls(frame)
+    controls += _geometry_controls(scene)
     controls.append(_field("model", "model", "select", items=MODELS, group="Shading"))
     controls.append(_field("interpolation", "interpolation", "select", items=INTERPOLATIONS, group="Shading"))
     controls.append(_field("two_sided", "two-sided lighting", "switch", group="Shading"))
@@ -524,9 +658,17 @@ def widgets_for(path: str) -> tuple[str, ...]:
     m = re.fullmatch(r"material\.(ka|kd|ks)", path)
     if m:
         return (f"{path}.level", f"{path}.color")
-    m = re.fullmatch(r"(lights\[\d+\])\.(position|direction|homogeneous)", path)
+    m = re.fullmatch(r"(lights\[\d+\])\.(position|direction)", path)
     if m:
         return tuple(f"{m.group(1)}.{p}" for p in ("azimuth", "elevation", "distance"))
+    m = re.fullmatch(r"(lights\[\d+\])\.homogeneous", path)
+    if m:
+        return tuple(f"{m.group(1)}.{p}" for p in ("type", "azimuth", "elevation", "distance"))
+    if path == "camera.eye":
+        return ("camera.azimuth", "camera.elevation", "camera.distance")
+    m = re.fullmatch(r"(lights\[\d+\])\.cutoff", path)
+    if m:
+        return (path, f"{m.group(1)}.no_cone")
     m = re.fullmatch(r"(lights\[\d+\])\.attenuation", path)
     if m:
         return tuple(f"{m.group(1)}.attenuation[{i}]" for i in range(3))
@@ -546,7 +688,11 @@ def lesson_controls(controls: list[Control], paths) -> list[Control]:
 
 
 def field_mirrors(scene) -> list[Control]:
-    """A value control per editable scene field: the field's file form under its own key."""
+    """A value control per editable scene field: the field's file form under its own key.
+
+    Where a widget edits the same key (``model``, ``lights[1].cutoff``), the
+    widget's control is the one to use: see :func:`controls_by_key`.
+    """
     paths = ["material.ka", "material.kd", "material.ks", "material.shininess", "material.emission",
              "model", "interpolation", "two_sided", "camera.infinite_viewer", "probe"]
     for index, light in enumerate(scene.lights):
@@ -559,6 +705,13 @@ def field_mirrors(scene) -> list[Control]:
             if isinstance(light, core.SpotLight):
                 paths += [f"{base}.direction", f"{base}.cutoff", f"{base}.exponent"]
     return [_field(path, path, "value", group="fields") for path in paths]
+
+
+def controls_by_key(scene, frame: Frame | None = None) -> dict:
+    """State key -> control for every widget and field mirror of ``scene`` (widgets win)."""
+    out = {c.key: c for c in field_mirrors(scene)}
+    out.update({c.key: c for c in scene_controls(scene, frame)})
+    return out
 
 
 def format_value(control: Control, value) -> str:

@@ -90,6 +90,7 @@ def load_entry(path: Path) -> Entry:
             entry.title = entry.lesson.title
     except SceneError as exc:
         entry.errors = [str(e) for e in getattr(exc, "errors", [exc])]
+        entry.title, entry.number = _peek_title(entry.path)
     except OSError as exc:
         entry.errors = [f"{entry.path}: cannot read: {exc.strerror or exc}"]
     if not entry.title:
@@ -98,6 +99,27 @@ def load_entry(path: Path) -> Entry:
         digits = "".join(ch for ch in entry.path.name.split("-")[0] if ch.isdigit())
         entry.number = int(digits) if digits else None
     return entry
+
+
+def _peek_title(path: Path) -> tuple[str, int | None]:
+    """Title and number of a lesson that failed to load, if they can still be read."""
+    import re
+    import tomllib
+
+    try:
+        text = path.read_text(encoding="utf-8")
+        title, number = "", None
+        if text.lstrip("\ufeff").startswith("+++"):
+            front = text.split("+++")[1]
+            data = tomllib.loads(front)
+            title = data.get("title", "") if isinstance(data.get("title"), str) else ""
+            number = data.get("number") if isinstance(data.get("number"), int) else None
+        if not title:
+            heading = re.search(r"^#\s+(.+?)\s*$", text, re.MULTILINE)
+            title = heading.group(1) if heading else ""
+        return title, number
+    except (OSError, UnicodeDecodeError, IndexError, tomllib.TOMLDecodeError):
+        return "", None
 
 
 def _title_from_name(path: Path) -> str:
@@ -155,7 +177,6 @@ class LessonApp(TrameApp):
         self._panels_handle = None
         self._rebuild_pending = False
         self._view_ms = 0.0
-        self._synced = {}
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
         # one SceneView for the whole session, built from the first good scene
@@ -292,14 +313,18 @@ class LessonApp(TrameApp):
         else:
             self._mesh_mapper = None
             self.html_view.update()
-            if new_lesson:
+            if new_lesson or (old is not None and old.camera != scene.camera):
                 self.html_view.push_camera()
         self._refresh_pixels()
         rebuild = new_lesson or old is None or _controls_shape(old) != _controls_shape(scene)
-        if defer_panels:
+        try:
+            loop = asyncio.get_running_loop() if defer_panels else None
+        except RuntimeError:  # no server loop (scripts, tests): refresh at once
+            loop = None
+        if loop is not None:
             self._rebuild_pending = self._rebuild_pending or rebuild
             if self._panels_handle is None:
-                self._panels_handle = asyncio.get_event_loop().call_later(PANEL_DELAY, self._deferred_panels)
+                self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
         else:
             self._refresh_panels(rebuild_controls=rebuild)
 
@@ -371,10 +396,10 @@ class LessonApp(TrameApp):
         s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
         # controls
-        all_controls = ctl.scene_controls(scene)
-        mirrors = ctl.field_mirrors(scene)
+        frame = ctl.Frame.of_camera(self.entry.scene.camera)
+        all_controls = ctl.scene_controls(scene, frame=frame)
         chosen = ctl.lesson_controls(all_controls, self.entry.lesson.controls) if self.entry.lesson else []
-        self._controls = {c.key: c for c in all_controls + mirrors}
+        self._controls = ctl.controls_by_key(scene, frame)
         self._sync_control_values()
         if rebuild_controls:
             self.state.control_labels = {c.key: text.inline(c.label) for c in all_controls}
@@ -389,9 +414,10 @@ class LessonApp(TrameApp):
         values = {}
         for key, control in self._controls.items():
             value = control.read(self.scene, self.options)
-            if self._synced.get(key, _UNSET) != value or self.state[key] != value:
+            # never echo a browser's own value back with rounding noise: a slider
+            # being dragged would jump back to an older position
+            if not control.same(self.state[key], value):
                 self.state[key] = value
-                self._synced[key] = value
             if control.kind == "slider":
                 values[key] = ctl.format_value(control, value)
         if values != self.state.control_values:
@@ -575,11 +601,12 @@ class LessonApp(TrameApp):
                 with html.Div(v_for="d in readout.dots", key="d.name", classes="phonglab-dot"):
                     html.Span(v_html=("d.tex",))
                     html.Span("{{ d.value }}", classes="phonglab-mono phonglab-dot-value",
-                              **{"data-name": ("d.name",)})
+                              data_name=("d.name",), __properties=[("data_name", "data-name")])
                 with html.Div(v_for="t in readout.terms", key="t.name", classes="phonglab-term"):
                     html.Span("", classes="phonglab-swatch", style=("{background: t.hex}",))
                     html.Span("{{ t.name }}")
-                    html.Span("{{ t.value }}", classes="phonglab-mono", **{"data-term": ("t.name",)})
+                    html.Span("{{ t.value }}", classes="phonglab-mono",
+                              data_term=("t.name",), __properties=[("data_term", "data-term")])
             html.Div(v_html=("readout.equation",), classes="phonglab-equation")
             html.Div("{{ n }}", v_for="(n, i) in readout.notes", key="i", classes="phonglab-note")
 
@@ -647,9 +674,6 @@ _INTERACTION = [
     {"button": 1, "action": "Pan", "shift": True},
     {"button": 1, "action": "Zoom", "control": True},
 ]
-
-
-_UNSET = object()
 
 
 def _empty_window():

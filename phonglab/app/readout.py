@@ -30,8 +30,8 @@ def _rgb_tex(rgb, digits: int = 2) -> str:
     return r"\left(" + ", ".join(_num(c, digits) for c in rgb) + r"\right)"
 
 
-def _vec_text(v) -> str:
-    return "(" + ", ".join(f"{float(c):+.2f}" for c in v) + ")"
+def _vec_text(v, digits: int = 3) -> str:
+    return "(" + ", ".join(f"{float(c):+.{digits}f}" for c in v) + ")"
 
 
 def probe_readout(scene, point, normal, vectors, light_index) -> dict:

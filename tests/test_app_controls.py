@@ -1,0 +1,226 @@
+"""The page's controls: browser values checked, scene fields written, places in a frame."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import phonglab as pl
+from phonglab.app import controls as ctl
+from phonglab.scene import Camera, Geometry, Scene
+
+
+def make_scene(**overrides):
+    fields = dict(
+        geometry=Geometry(kind="sphere", resolution=16),
+        material=pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40.0),
+        lights=(
+            pl.AmbientLight(intensity=0.2),
+            pl.PointLight(position=(2.0, 2.5, 3.0)),
+            pl.SpotLight(position=(0.0, 3.0, 0.0), direction=(0.0, -3.0, 0.0), cutoff=20.0, exponent=2.0),
+        ),
+        camera=Camera(eye=(0.0, 0.0, 4.0)),
+    )
+    fields.update(overrides)
+    return Scene(**fields)
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return make_scene()
+
+
+@pytest.fixture(scope="module")
+def by_path(scene):
+    return {c.path: c for c in ctl.controls_by_key(scene).values()}
+
+
+# ---------------------------------------------------------------------------
+# refusing browser values
+
+
+@pytest.mark.parametrize(
+    "path, value, says",
+    [
+        ("material.ks.level", float("nan"), "finite"),
+        ("material.ks.level", float("inf"), "finite"),
+        ("material.ks.level", "0.5", "must be a number"),
+        ("material.ks.level", True, "must be a number"),
+        ("material.ks.level", None, "must be a number"),
+        ("material.ks.level", 1.5, "between 0 and 1"),
+        ("material.ks.level", -0.01, "between 0 and 1"),
+        ("material.shininess.log", 3.5, "between 0 and 3"),
+        ("material.kd.color", "red", "#rrggbb"),
+        ("material.kd.color", "#12345", "#rrggbb"),
+        ("two_sided", 1, "true or false"),
+        ("model", "lambert", "one of phong, blinn-phong"),
+        ("view.term", 3, "one of color"),
+        ("material.kd", {"r": 1}, "must be a number"),
+        ("material.kd", [1, "x", 2], "material.kd"),
+        ("material.kd", -3, "material.kd"),
+        ("lights[1].attenuation[0]", 0.0, "a + b·d + c·d²"),
+        ("lights[2].cutoff", 95.0, "between 1 and 90"),
+        ("lights[1].distance", float("nan"), "finite"),
+    ],
+)
+def test_bad_values_raise_control_errors_naming_path_and_value(scene, by_path, path, value, says):
+    control = by_path[path]
+    with pytest.raises(ctl.ControlError) as info:
+        control.apply(scene, value, {"term": "color"})
+    message = str(info.value)
+    assert message.startswith(path + ":"), f"{path} = {value!r}: {message}"
+    assert says in message, f"{path} = {value!r}: {message}"
+
+
+def test_a_refused_value_leaves_the_scene_unchanged(scene, by_path):
+    before = ctl.scene_to_dict(scene)
+    with pytest.raises(ctl.ControlError):
+        by_path["material.ks.level"].apply(scene, float("nan"), {})
+    assert ctl.scene_to_dict(scene) == before
+
+
+# ---------------------------------------------------------------------------
+# writing good values
+
+
+def test_shininess_slider_is_log10_alpha_over_1_to_1000(scene, by_path):
+    control = by_path["material.shininess.log"]
+    assert (control.low, control.high) == (0.0, 3.0)
+    assert control.read(scene, {}) == pytest.approx(math.log10(40.0))
+    for log_alpha, alpha in ((0.0, 1.0), (1.5, 10**1.5), (3.0, 1000.0)):
+        new, _ = control.apply(scene, log_alpha, {})
+        assert new.material.shininess == pytest.approx(alpha, rel=1e-5), log_alpha
+    assert ctl.format_value(control, 2.0) == "100"
+
+
+def test_level_and_colour_split_an_rgb_coefficient(scene, by_path):
+    level, colour = by_path["material.kd.level"], by_path["material.kd.color"]
+    assert level.read(scene, {}) == pytest.approx(0.8)
+    assert colour.read(scene, {}) == ctl.rgb_to_hex((1.0, 0.375, 0.25))
+    half, _ = level.apply(scene, 0.4, {})
+    assert half.material.kd == pytest.approx((0.4, 0.15, 0.1))
+    green, _ = colour.apply(scene, "#00ff00", {})
+    assert green.material.kd == pytest.approx((0.0, 0.8, 0.0)), "the hue changes, the level stays"
+    # at level 0 the picked hue is remembered for when the level comes back
+    dark, options = level.apply(scene, 0.0, {})
+    dark, options = colour.apply(dark, "#0000ff", options)
+    back, _ = level.apply(dark, 0.5, options)
+    assert back.material.kd == pytest.approx((0.0, 0.0, 0.5))
+
+
+def test_term_view_is_a_view_option_not_a_scene_field(scene, by_path):
+    new, options = by_path["view.term"].apply(scene, "specular", {"term": "color"})
+    assert new is scene and options == {"term": "specular"}
+
+
+frames = st.sampled_from([(0, 1, 0), (0, 0, 1), (1, 0, 0), (0.3, 1.0, -0.2)])
+eyes = st.sampled_from([(0, 0, 4), (0, -4.3, 3.9), (3, 1, 2)])
+
+
+@given(up=frames, eye=eyes, az=st.floats(-179, 179), el=st.floats(-85, 85), dist=st.floats(0.5, 12))
+def test_place_and_offset_are_inverse_in_any_frame(up, eye, az, el, dist):
+    try:
+        camera = Camera(eye=eye, up=up)
+    except ValueError:  # up parallel to the view: not a camera
+        return
+    frame = ctl.Frame.of_camera(camera)
+    for a, b in ((frame.up, frame.front), (frame.up, frame.right), (frame.front, frame.right)):
+        assert abs(np.dot(a, b)) < 1e-9, frame
+    offset = ctl.place_offset(az, el, dist, frame)
+    assert np.linalg.norm(offset) == pytest.approx(dist)
+    got = ctl.place_of(offset, frame)
+    assert got == pytest.approx((az, el, dist), abs=1e-6), (up, eye, az, el, dist, got)
+
+
+def test_azimuth_zero_faces_the_lesson_eye():
+    frame = ctl.Frame.of_camera(Camera(eye=(0, -4.3, 3.9), up=(0, 0, 1)))
+    offset = ctl.place_offset(0.0, 0.0, 1.0, frame)
+    assert offset == pytest.approx((0.0, -1.0, 0.0), abs=1e-12), offset
+    assert ctl.place_offset(0.0, 90.0, 1.0, frame) == pytest.approx((0.0, 0.0, 1.0), abs=1e-12)
+
+
+def test_moving_a_light_changes_only_the_moved_coordinate(scene, by_path):
+    focal = scene.camera.focal_point
+    frame = ctl.Frame.of_camera(scene.camera)
+    az0, el0, d0 = ctl.light_place(scene.lights[1], focal, frame)
+    moved, _ = by_path["lights[1].azimuth"].apply(scene, 100.0, {})
+    az, el, d = ctl.light_place(moved.lights[1], focal, frame)
+    assert (az, el, d) == pytest.approx((100.0, el0, d0)), (az0, el0, d0)
+    assert isinstance(moved.lights[1], pl.PointLight)
+
+
+def test_a_spot_aimed_at_the_focal_point_stays_aimed_when_moved(scene, by_path):
+    moved, _ = by_path["lights[2].elevation"].apply(scene, 40.0, {})
+    spot = moved.lights[2]
+    to_focal = -np.asarray(spot.position) / np.linalg.norm(spot.position)
+    axis = np.asarray(spot.direction) / np.linalg.norm(spot.direction)
+    assert to_focal @ axis == pytest.approx(1.0), (spot.position, spot.direction)
+
+
+@pytest.mark.parametrize("kind, cls", [("directional", pl.DirectionalLight), ("spot", pl.SpotLight),
+                                       ("point", pl.PointLight)])
+def test_changing_a_light_type_keeps_its_direction_from_the_focal_point(scene, by_path, kind, cls):
+    new, _ = by_path["lights[1].type"].apply(scene, kind, {})
+    light = new.lights[1]
+    assert type(light) is cls, light
+    frame = ctl.Frame.of_camera(scene.camera)
+    before = ctl.light_place(scene.lights[1], scene.camera.focal_point, frame)
+    after = ctl.light_place(light, scene.camera.focal_point, frame)
+    assert after[:2] == pytest.approx(before[:2]), (before, after)
+    assert new.lights[0] == scene.lights[0] and new.lights[2] == scene.lights[2]
+
+
+def test_eye_controls_move_the_camera_around_the_focal_point(scene, by_path):
+    new, _ = by_path["camera.azimuth"].apply(scene, 90.0, {})
+    assert new.camera.eye == pytest.approx((4.0, 0.0, 0.0), abs=1e-9)
+    assert new.camera.focal_point == scene.camera.focal_point
+
+
+def test_the_no_cone_switch_makes_a_point_light_and_gives_the_cone_back(scene, by_path):
+    off, options = by_path["lights[2].no_cone"].apply(scene, True, {})
+    assert off.lights[2].cutoff == 180.0
+    assert by_path["lights[2].cutoff"].read(off, options) == 90.0, "the slider stays in its range"
+    back, _ = by_path["lights[2].no_cone"].apply(off, False, options)
+    assert back.lights[2].cutoff == 20.0
+
+
+def test_resolution_slider_writes_a_whole_number(scene, by_path):
+    new, _ = by_path["geometry.resolution"].apply(scene, 31.6, {})
+    assert new.geometry.resolution == 32
+
+
+def test_field_mirrors_read_and_write_the_file_form(scene, by_path):
+    assert by_path["material.ks"].read(scene, {}) == [0.6, 0.6, 0.6]
+    assert by_path["lights[1].position"].read(scene, {}) == [2.0, 2.5, 3.0]
+    new, _ = by_path["lights[1].position"].apply(scene, [1, 1, 1], {})
+    assert new.lights[1].position == (1.0, 1.0, 1.0)
+
+
+# ---------------------------------------------------------------------------
+# which widgets a lesson gets
+
+
+def test_lesson_control_paths_expand_to_their_widgets(scene):
+    chosen = ctl.lesson_controls(
+        ctl.scene_controls(scene),
+        ["material.kd", "material.shininess", "lights[1].position", "lights[1].attenuation", "camera.eye",
+         "no.such.field", "material.kd"],
+    )
+    assert [c.path for c in chosen] == [
+        "material.kd.level", "material.kd.color", "material.shininess.log",
+        "lights[1].azimuth", "lights[1].elevation", "lights[1].distance",
+        "lights[1].attenuation[0]", "lights[1].attenuation[1]", "lights[1].attenuation[2]",
+        "camera.azimuth", "camera.elevation", "camera.distance",
+    ]
+
+
+def test_every_control_reads_a_value_its_own_check_accepts(scene):
+    for control in ctl.scene_controls(scene):
+        value = control.read(scene, {"term": "color"})
+        if control.kind == "slider":
+            value = min(max(value, control.low), control.high)
+        assert control.check(value) is not None or control.kind == "switch", (control.path, value)

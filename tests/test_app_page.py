@@ -1,0 +1,186 @@
+"""The lesson app without a browser: lessons, checked input, the colour push, picking, the readout."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import phonglab as pl
+from phonglab.app.lesson_app import LessonApp, catalog
+from phonglab.app.readout import probe_readout
+from phonglab.render.glyphs import COLOR_ARRAY
+from phonglab.scene import load_lesson
+
+GOOD = """\
++++
+number = 1
+title = "Sphere"
+goal = "See $k_s$."
+controls = ["material.ks", "material.shininess"]
+probe = [0.3, 0.4, 0.866]
+
+[geometry]
+kind = "sphere"
+resolution = 24
+
+[material]
+ka = 0.1
+kd = [0.8, 0.3, 0.2]
+ks = 0.6
+shininess = 20
+
+[[lights]]
+type = "ambient"
+intensity = 0.2
+
+[[lights]]
+type = "point"
+position = [2, 2.5, 3]
+
+[camera]
+eye = [0, 0, 4]
++++
+
+# Sphere
+
+Diffuse is $k_d \\max(0, n\\cdot l)$.
+"""
+
+BROKEN = """\
++++
+title = "Broken"
+number = 2
+[geometry]
+kind = "sphere"
+[material]
+ka = 0.1
+kd = -3
+ks = 0.5
+shininess = 40
++++
+# Broken
+"""
+
+
+@pytest.fixture(scope="module")
+def lessons(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("lessons")
+    (folder / "01-sphere.md").write_text(GOOD, encoding="utf-8")
+    (folder / "02-broken.md").write_text(BROKEN, encoding="utf-8")
+    return folder
+
+
+@pytest.fixture
+def app(lessons, tmp_path):
+    from trame.app import get_server
+
+    server = get_server(f"test-{tmp_path.name}", client_type="vue3")
+    application = LessonApp(server, target=lessons, export_dir=tmp_path / "exports")
+    yield application
+    application.close()
+
+
+def test_catalog_lists_good_and_broken_lessons_with_their_titles(lessons):
+    entries, first = catalog(lessons / "02-broken.md")
+    assert [(e.number, e.title, e.ok) for e in entries] == [(1, "Sphere", True), (2, "Broken", False)]
+    assert first == 1
+    assert any("material.kd" in e and "-3" in e for e in entries[1].errors), entries[1].errors
+
+
+def test_opening_lessons_fills_text_controls_and_errors(app):
+    s = app.state
+    assert s.lesson_title == "Sphere" and s.lesson_errors == []
+    assert "<math" in s.lesson_html and "$" not in s.lesson_html, s.lesson_html
+    assert s.material__ks__level == pytest.approx(0.6)
+    assert s.material__shininess__log == pytest.approx(np.log10(20))
+    app.open_lesson(1)
+    assert s.lesson_errors and "02-broken.md" in s.lesson_errors[0], s.lesson_errors
+    app.open_lesson(7)
+    assert s.notice["kind"] == "error" and "no such lesson" in s.notice["text"]
+    assert s.lesson_title == "Broken", "a bad index leaves the page as it was"
+
+
+def test_a_colour_change_pushes_exactly_the_views_new_colours(app):
+    before = np.array(app.view.mesh.point_data[COLOR_ARRAY])
+    app._on_control("material__ks__level", 0.2)
+    assert app.scene.material.ks == pytest.approx((0.2, 0.2, 0.2))
+    push = app.state.view_colors
+    colours = np.array(app.view.mesh.point_data[COLOR_ARRAY])
+    assert not np.array_equal(colours, before), "k_s 0.6 -> 0.2 did not change the mesh colours"
+    assert push["location"] == "point" and push["name"] == COLOR_ARRAY
+    assert push["dataset"].endswith("-dataset")
+    assert np.frombuffer(push["data"], np.uint8).reshape(-1, 3).tolist() == colours.tolist()
+
+
+@pytest.mark.parametrize("key, value", [
+    ("material__ks__level", float("nan")),
+    ("material__ks__level", "0.4"),
+    ("material__kd", [1, "x", 2]),
+    ("lights_1__attenuation_0", 0.0),
+    ("interpolation", "phong"),
+])
+def test_bad_input_is_refused_visibly_and_the_scene_stays(app, key, value):
+    scene = app.scene
+    current = app._controls[key].read(scene, app.options)
+    app._on_control(key, value)
+    assert app.scene is scene, f"{key} = {value!r} changed the scene"
+    assert app.state.notice["kind"] == "error" and "Refused" in app.state.notice["text"], app.state.notice
+    assert app.state[key] == current, f"{key} was not reset to {current!r}"
+
+
+def test_an_unexpected_failure_is_reported_not_raised(app, monkeypatch):
+    def broken(scene):
+        raise RuntimeError("boom")
+
+    monkeypatch.setattr(app.view, "update", broken)
+    app._on_control("material__ks__level", 0.3)
+    assert "boom" in app.state.notice["text"], app.state.notice
+
+
+def test_a_click_ray_moves_the_probe_to_the_first_surface_hit(app):
+    # a ray from the eye towards (−0.5, 0.2, 0) hits the front of the unit sphere
+    eye, target = np.array([0.0, 0.0, 4.0]), np.array([-0.5, 0.2, 0.0])
+    app.on_pick({"ray": [eye.tolist(), target.tolist()]})
+    p = np.array(app.scene.probe)
+    assert abs(np.linalg.norm(p) - 1.0) < 0.02 and p[2] > 0 and p[0] < 0, p
+    direction = (target - eye) / np.linalg.norm(target - eye)
+    offset = (p - eye) - ((p - eye) @ direction) * direction
+    assert np.linalg.norm(offset) < 0.02, f"probe {p} is off the click ray"
+    for bad in (None, {"ray": "x"}, {"ray": [[0, 0, "a"], [1, 1, 1]]}, {"ray": [[0, 0, float("nan")], [1, 1, 1]]}):
+        app.on_pick(bad)
+        assert np.array(app.scene.probe) == pytest.approx(p), f"{bad!r} moved the probe"
+
+
+def test_readout_numbers_are_the_cores(lessons):
+    scene = load_lesson(lessons / "01-sphere.md").scene
+    point = np.array([0.3, 0.4, 0.866])
+    normal = point / np.linalg.norm(point)
+    v = pl.vectors(point, normal, eye=scene.camera.eye, light=scene.lights[1])
+    out = probe_readout(scene, point, normal, v, 1)
+    shown = {d["name"]: float(d["value"]) for d in out["dots"]}
+    assert shown == pytest.approx({"n·l": v.nl, "r·v": v.rv, "n·h": v.nh}, abs=5e-4)
+    shading = pl.shade(point[None], normal[None], eye=scene.camera.eye, material=scene.material,
+                       lights=scene.lights)
+    terms = {t["name"]: [float(x) for x in t["value"].strip("()").split(",")] for t in out["terms"]}
+    assert terms["total"] == pytest.approx(shading.color[0], abs=5e-4)
+    assert terms["specular"] == pytest.approx(shading.specular[0], abs=5e-4)
+    assert out["equation"].count("<math") == 3
+
+
+def test_readout_says_why_a_light_behind_the_surface_adds_nothing(lessons):
+    scene = load_lesson(lessons / "01-sphere.md").scene
+    point = np.array([-0.6, -0.6, -0.5291])
+    normal = point / np.linalg.norm(point)
+    v = pl.vectors(point, normal, eye=scene.camera.eye, light=scene.lights[1])
+    assert v.nl < 0
+    out = probe_readout(scene, point, normal, v, 1)
+    assert any("n·l ≤ 0" in note for note in out["notes"]), out["notes"]
+    terms = {t["name"]: t["value"] for t in out["terms"]}
+    assert terms["diffuse"] == terms["specular"] == "(0.000, 0.000, 0.000)"
+
+
+def test_export_writes_a_png_through_the_figure_code(app):
+    app.export_figure()
+    assert app.state.notice["kind"] == "success", app.state.notice
+    files = list(app.export_dir.glob("lesson-01-*.png"))
+    assert len(files) == 1 and files[0].read_bytes()[:4] == b"\x89PNG"
