@@ -361,7 +361,7 @@ def _light_table(scene, index) -> dict:
     return field_value(scene, f"lights[{index}]")
 
 
-def _move_light(scene, index, frame, azimuth=None, elevation=None, distance=None):
+def move_light(scene, index, frame, azimuth=None, elevation=None, distance=None):
     """The scene with light ``index`` moved to new azimuth/elevation/distance (None: keep)."""
     light = scene.lights[index]
     focal = scene.camera.focal_point
@@ -494,7 +494,7 @@ def _shininess(group: str) -> Control:
 def _light_controls(scene, index: int, frame: Frame) -> list[Control]:
     light = scene.lights[index]
     base = f"lights[{index}]"
-    group = f"Light {index}"
+    group = f"Light {index} ({_light_kind(light)})"
     controls: list[Control] = []
     if isinstance(light, core.AmbientLight):
         group = f"Ambient light {index}"
@@ -514,7 +514,7 @@ def _light_controls(scene, index: int, frame: Frame) -> list[Control]:
 
             def write(scene, value, options, index=index):
                 kwargs = {("azimuth", "elevation", "distance")[which]: value}
-                return _move_light(scene, index, frame, **kwargs), options
+                return move_light(scene, index, frame, **kwargs), options
 
             return read, write
 

@@ -32,6 +32,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 from trame.app import TrameApp
 from trame.ui.html import DivLayout
 from trame.ui.vuetify3 import VAppLayout
@@ -45,6 +46,7 @@ from phonglab.app import text
 from phonglab.app.client import MODULE, ColorPush, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
+from phonglab.render._vtk import set_camera
 from phonglab.scene import SceneError, load_lesson, load_scene, plan
 from phonglab.scene.loader import lesson_files
 
@@ -54,6 +56,8 @@ log = logging.getLogger(__name__)
 APP_TITLE = "phonglab"
 #: size of the server-side image in pixel mode (width, height)
 PIXEL_SIZE = (960, 720)
+#: largest side of the server's window (pixel mode image), in pixels
+MAX_PIXEL_SIDE = 1600
 #: seconds between sending a view update and refreshing the panels (lets the update leave first)
 PANEL_DELAY = 0.004
 #: scene fields whose change only recolours the mesh (no geometry, arrow or marker moves)
@@ -177,15 +181,18 @@ class LessonApp(TrameApp):
         self._panels_handle = None
         self._rebuild_pending = False
         self._view_ms = 0.0
+        self._mistake_painted = False
+        self._camera_moved = False
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
+        self.state.change("view_size")(self._on_view_size)
         # one SceneView for the whole session, built from the first good scene
         good = [e for e in self.entries if e.ok]
         if good:
             from phonglab.render import SceneView
 
             start = self.entries[first] if self.entries[first].ok else good[0]
-            self.view = SceneView(start.scene, size=PIXEL_SIZE, labels=False)
+            self.view = SceneView(start.scene, size=PIXEL_SIZE, labels=False, vtk_text=False)
         self._build_ui()
         self.open_lesson(first)
 
@@ -220,6 +227,8 @@ class LessonApp(TrameApp):
         s.control_values = {}
         s.control_labels = {}
         s.has_view = False
+        s.pick_target = "probe"
+        s.mistake = None
 
     def notify(self, kind: str, message: str) -> None:
         """Show a message above the controls (kind: "error", "success", "info")."""
@@ -266,6 +275,7 @@ class LessonApp(TrameApp):
         ] if lesson else []
         s.question_html = text.inline(lesson.question) if lesson and lesson.question else ""
         s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
+        s.mistake = self._mistake_info()
         self.options = {"term": "color"}
         self._show_scene(entry.scene, new_lesson=True)
 
@@ -306,7 +316,13 @@ class LessonApp(TrameApp):
         old = self.scene
         self.scene = scene
         self.view.update(scene)
+        if new_lesson and self._camera_moved:
+            # the browser turned the view: back to the lesson's camera
+            set_camera(self.view.renderer.GetActiveCamera(), scene.camera)
+            self.view.set_size(self.view.render_window.GetSize())
+            self._camera_moved = False
         self.view.set_term(self.options["term"])
+        self._paint_mistake()
         self.state.has_view = True
         if colours_only:
             self._push_colours()
@@ -344,6 +360,51 @@ class LessonApp(TrameApp):
         finally:
             spent, self._view_ms = self._view_ms, 0.0
             record("view", spent + (time.perf_counter() - start) * 1000.0)
+
+    def _paint_mistake(self) -> None:
+        """Show the lesson's common mistake on the mesh (or put the correct colours back)."""
+        from phonglab.render import shading
+        from phonglab.render.glyphs import COLOR_ARRAY
+        from phonglab.render.mesh import face_centroids_normals
+
+        name = self.entry.lesson.mistake if self.entry and self.entry.lesson else None
+        wanted = bool(name and self.options.get("mistake")) and self.scene.interpolation != "pixel"
+        if not wanted and not self._mistake_painted:
+            return
+        mesh, term = self.view.mesh, self.options["term"]
+        if self.scene.interpolation == "flat":
+            points, normals = face_centroids_normals(mesh)
+            fields = mesh.cell_data
+        else:
+            points, normals = np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"])
+            fields = mesh.point_data
+        if wanted:
+            from phonglab.teaching import shade_scene
+
+            values = shading.term_of(shade_scene(self.scene, points, normals, name), term)
+        else:
+            values = shading.term_of(shading.shade(self.scene, points, normals), term)
+        fields[COLOR_ARRAY][...] = shading.to_rgb8(values)
+        fields.GetArray(COLOR_ARRAY).Modified()
+        self._mistake_painted = wanted
+
+    def _mistake_info(self) -> dict | None:
+        """The lesson's common mistake for the page, or None."""
+        name = self.entry.lesson.mistake if self.entry and self.entry.lesson else None
+        if not name:
+            return None
+        from phonglab.teaching import get_mistake
+
+        try:
+            m = get_mistake(name)
+        except ValueError as exc:
+            return {"title": name, "looks_like": str(exc), "wrong": "", "right": "", "available": False,
+                    "note": ""}
+        note = ""
+        if m.needs_raw_normals:
+            note = "This mistake shows only where normals are interpolated per pixel; the picture here is per vertex."
+        return {"title": m.title, "looks_like": m.looks_like, "wrong": m.wrong, "right": m.right,
+                "available": not m.needs_raw_normals, "note": note}
 
     def _mapper(self):
         """The mapper of the shaded mesh (its input is the view's mesh)."""
@@ -400,6 +461,8 @@ class LessonApp(TrameApp):
         all_controls = ctl.scene_controls(scene, frame=frame)
         chosen = ctl.lesson_controls(all_controls, self.entry.lesson.controls) if self.entry.lesson else []
         self._controls = ctl.controls_by_key(scene, frame)
+        if self.state.mistake and self.state.mistake.get("available"):
+            self._controls["view__mistake"] = _MISTAKE_SWITCH
         self._sync_control_values()
         if rebuild_controls:
             self.state.control_labels = {c.key: text.inline(c.label) for c in all_controls}
@@ -474,12 +537,63 @@ class LessonApp(TrameApp):
             if hit is None:
                 return
             point = [round(float(c), 6) for c in hit[0]]
-            self._show_scene(self.scene.replace("probe", point))
+            if self.state.pick_target == "light" and self.view.light_index is not None:
+                # the light moves onto the line from the focal point through the click
+                scene = self.scene
+                frame = ctl.Frame.of_camera(self.entry.scene.camera)
+                offset = [p - f for p, f in zip(point, scene.camera.focal_point)]
+                azimuth, elevation, _ = ctl.place_of(offset, frame)
+                elevation = max(-89.0, min(89.0, elevation))
+                moved = ctl.move_light(scene, self.view.light_index, frame, azimuth=azimuth, elevation=elevation)
+                self._show_scene(moved)
+            else:
+                self._show_scene(self.scene.replace("probe", point))
         except (ValueError, TypeError, SceneError) as exc:
             self.notify("error", f"Refused a click: {exc}")
         except Exception as exc:
             log.exception("pick")
             self.notify("error", f"Could not pick: {type(exc).__name__}: {exc}")
+
+    def on_camera(self, camera=None, **_) -> None:
+        """The browser's camera after the student turned or zoomed the view.
+
+        Lighting keeps using the scene's eye; this only makes the server's
+        picture (pixel mode) look from where the browser looks.
+        """
+        from phonglab.scene import Camera
+
+        try:
+            if not isinstance(camera, dict):
+                return
+            seen = Camera(
+                eye=_finite3(camera.get("position")),
+                focal_point=_finite3(camera.get("focalPoint")),
+                up=_finite3(camera.get("viewUp")),
+                view_angle=float(camera.get("viewAngle", self.scene.camera.view_angle)),
+            )
+            set_camera(self.view.renderer.GetActiveCamera(), seen)
+            self._camera_moved = True
+            if self.scene.interpolation == "pixel":
+                self._refresh_pixels()
+        except (ValueError, TypeError, SceneError):
+            return  # a malformed camera from the browser is ignored
+        except Exception:
+            log.exception("camera")
+
+    def _on_view_size(self, view_size=None, **_) -> None:
+        """The view's size in the browser: the server window (pixel mode, framing) follows it."""
+        try:
+            size = (view_size or {}).get("size") or {}
+            width, height = int(size.get("width", 0)), int(size.get("height", 0))
+        except (AttributeError, TypeError, ValueError):
+            return
+        if self.view is None or not (64 <= width <= 4096 and 64 <= height <= 4096):
+            return
+        width, height = min(width, MAX_PIXEL_SIDE), min(height, MAX_PIXEL_SIDE)
+        if tuple(self.view.render_window.GetSize()) != (width, height):
+            self.view.set_size((width, height))
+            if self.scene is not None and self.scene.interpolation == "pixel":
+                self._refresh_pixels()
 
     def export_figure(self) -> None:
         """Save the current scene as a PNG through :func:`phonglab.render.figure`."""
@@ -561,6 +675,18 @@ class LessonApp(TrameApp):
                                 html.Div(v_if="x.text", v_html=("x.text",), classes="text-body-2")
                             v3.VBtn("Apply", size="small", color="primary", variant="flat",
                                     click=(self.apply_experiment, "[x.index]"), classes="phonglab-apply")
+                with html.Div(v_if="mistake", classes="phonglab-mistake"):
+                    html.H3("A common mistake: {{ mistake.title }}")
+                    html.P("{{ mistake.looks_like }}")
+                    with html.Div(classes="phonglab-code"):
+                        html.Div("wrong", classes="phonglab-code-tag phonglab-code-wrong")
+                        html.Code("{{ mistake.wrong }}")
+                        html.Div("right", classes="phonglab-code-tag phonglab-code-right")
+                        html.Code("{{ mistake.right }}")
+                    v3.VSwitch(v_model=("view__mistake", False), v_if="mistake.available", color="error",
+                               label="Show the mistake on the mesh", density="compact", hide_details=True,
+                               classes="phonglab-mistake-switch")
+                    html.P("{{ mistake.note }}", v_if="mistake.note", classes="phonglab-note")
                 with html.Div(v_if="question_html", classes="phonglab-question"):
                     html.H3("Check yourself")
                     html.Div(v_html=("question_html",))
@@ -577,8 +703,11 @@ class LessonApp(TrameApp):
                     picking_modes=("['click']",),
                     click=(self.on_pick, "[$event]"),
                     interactor_settings=("view_interaction", _INTERACTION),
+                    interactor_events=("['EndAnimation']",),
+                    EndAnimation=(self.on_camera, "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.html_view:
                     ColorPush(push=("view_colors",))
+                client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     html.Img(src=("pixel_src",), alt="per-pixel shading by the core")
                     html.Div("Per-pixel shading, computed by the core from the scene's camera",
@@ -588,8 +717,22 @@ class LessonApp(TrameApp):
                                    title=("v.meaning",)):
                         html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
                         html.B("{{ v.letter }}")
-                html.Div("Click the surface to move the probe · drag to turn · wheel to zoom",
-                         classes="phonglab-hint")
+                with html.Div(classes="phonglab-tools", v_if="!lesson_errors.length"):
+                    with v3.VBtnToggle(v_model=("view__term",), mandatory=True, density="compact",
+                                       variant="outlined", divided=True, classes="phonglab-term-toggle"):
+                        for value, title in ctl.TERMS:
+                            v3.VBtn(title.replace(" terms", ""), value=value, size="small",
+                                    classes=f"phonglab-term-{value}")
+                    with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
+                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
+                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
+                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
+                html.Div(
+                    "{{ pixel_mode ? 'Per-pixel image from the scene camera · click picks on the mesh below' : "
+                    "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
+                    "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
+                    classes="phonglab-hint",
+                )
             self._readout_panel()
 
     def _readout_panel(self):
@@ -600,11 +743,14 @@ class LessonApp(TrameApp):
             with html.Div(classes="phonglab-dots"):
                 with html.Div(v_for="d in readout.dots", key="d.name", classes="phonglab-dot"):
                     html.Span(v_html=("d.tex",))
+                    html.Span("=", classes="phonglab-eq")
                     html.Span("{{ d.value }}", classes="phonglab-mono phonglab-dot-value",
                               data_name=("d.name",), __properties=[("data_name", "data-name")])
-                with html.Div(v_for="t in readout.terms", key="t.name", classes="phonglab-term"):
+            with html.Div(classes="phonglab-terms"):
+                with html.Div(v_for="t in readout.terms", key="t.name", classes="phonglab-term",
+                              title="RGB, before clipping to the screen's 0..1"):
                     html.Span("", classes="phonglab-swatch", style=("{background: t.hex}",))
-                    html.Span("{{ t.name }}")
+                    html.Span("{{ t.name }}", classes="phonglab-term-name")
                     html.Span("{{ t.value }}", classes="phonglab-mono",
                               data_term=("t.name",), __properties=[("data_term", "data-term")])
             html.Div(v_html=("readout.equation",), classes="phonglab-equation")
@@ -641,7 +787,11 @@ class LessonApp(TrameApp):
             layout.root.classes = "phonglab-controls"
             if chosen:
                 html.Div("This lesson", classes="phonglab-section")
+                group = None
                 for control in chosen:
+                    if control.group != group and control.group not in ("Material", "Shading", "View"):
+                        html.Div(control.group, classes="phonglab-subsection")
+                    group = control.group
                     _widget(control)
             if all_controls:
                 with v3.VExpansionPanels(variant="accordion", classes="phonglab-all mt-3", multiple=True):
@@ -665,6 +815,15 @@ class LessonApp(TrameApp):
                 log.exception("closing the view")
             self.view = None
 
+
+_MISTAKE_SWITCH = ctl.Control(
+    path="view.mistake",
+    label="show the mistake",
+    kind="switch",
+    read=lambda scene, options: bool(options.get("mistake", False)),
+    write=lambda scene, value, options: (scene, {**options, "mistake": value}),
+    group="View",
+)
 
 #: mouse: left turns, shift-left pans, wheel zooms; a plain click picks
 _INTERACTION = [

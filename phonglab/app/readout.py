@@ -22,6 +22,11 @@ def _num(x: float, digits: int = 2) -> str:
     return "0" + text[2:] if text.startswith("-0") and float(text) == 0 else text
 
 
+def _alpha(alpha: float) -> str:
+    """The shininess as an exponent: whole numbers without decimals."""
+    return f"{alpha:.0f}" if abs(alpha - round(alpha)) < 5e-3 or alpha >= 100 else f"{alpha:.2f}"
+
+
 def _rgb_tex(rgb, digits: int = 2) -> str:
     """A colour as one number when grey, else as a triple."""
     rgb = [float(c) for c in rgb]
@@ -102,7 +107,7 @@ def probe_readout(scene, point, normal, vectors, light_index) -> dict:
     substituted = (
         rf"= {_rgb_tex(material.ka)} \cdot {_rgb_tex(ia)} + {_num(f, 3)}\left[{_rgb_tex(material.kd)} \cdot "
         rf"{_rgb_tex(light.diffuse_rgb)} \cdot {_num(max(0.0, vectors.nl), 3)} + {_rgb_tex(material.ks)} \cdot "
-        rf"{_rgb_tex(light.specular_rgb)} \cdot {_num(max(0.0, cosine), 3)}^{{{_num(alpha, 1 if alpha < 100 else 0)}}}\right]"
+        rf"{_rgb_tex(light.specular_rgb)} \cdot {_num(max(0.0, cosine), 3)}^{{{_alpha(alpha)}}}\right]"
     )
     result = (
         rf"= {_rgb_tex(part.ambient[0], 3)} + {_rgb_tex(part.diffuse[0], 3)} + {_rgb_tex(part.specular[0], 3)}"
@@ -128,7 +133,7 @@ def probe_readout(scene, point, normal, vectors, light_index) -> dict:
     if others > 0:
         rest = total.color[0] - part.color[0]
         out["notes"].append(
-            f"{others} other light{'s' if others > 1 else ''} add "
+            (f"{others} other lights add " if others > 1 else "1 other light adds ")
             + "(" + ", ".join(f"{c:.3f}" for c in rest) + f"), for a total of "
             + "(" + ", ".join(f"{c:.3f}" for c in total.color[0]) + ")."
         )

@@ -201,3 +201,24 @@ def test_experiment_answer_pixel_mode_and_export(app_page, export_dir):
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
     assert re.search(r"lesson-01-\d{8}-\d{6}\.png", next(iter(new)).name)
     assert math.isfinite(app_page.readout()["dots"]["n·l"])
+
+
+def test_term_view_and_placing_the_light_by_clicking(app_page):
+    page = app_page.page
+    hash_all = app_page.pixel_hash()
+    page.locator(".phonglab-term-specular").click()
+    wait_for(lambda: app_page.state("view__term") == "specular", "the term view to switch to specular")
+    app_page.wait_settled()
+    assert app_page.pixel_hash() != hash_all, "the specular-only view looks like the full picture"
+    # put the light above a point on the left of the sphere
+    page.locator(".phonglab-pick-toggle button", has_text="Light").click()
+    wait_for(lambda: app_page.state("pick_target") == "light", "the click target to become the light")
+    probe = app_page.readout()["point"]
+    box = page.locator(".phonglab-view canvas").bounding_box()
+    page.mouse.click(box["x"] + box["width"] * 0.35, box["y"] + box["height"] * 0.5)
+    azimuth = wait_for(lambda: (a := app_page.state("lights_1__azimuth")) < -10 and a, "the light to move left")
+    assert app_page.readout()["point"] == probe, "placing the light moved the probe"
+    position = np.array(app_page.state("lights_1__position"))
+    distance = np.linalg.norm(position)
+    assert distance == pytest.approx(np.linalg.norm(LIGHT), rel=1e-3), "the light kept its distance"
+    assert position[0] < 0, f"light at {position} (azimuth {azimuth}) is not on the left"
