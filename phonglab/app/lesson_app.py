@@ -710,8 +710,6 @@ class LessonApp(TrameApp):
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     html.Img(src=("pixel_src",), alt="per-pixel shading by the core")
-                    html.Div("Per-pixel shading, computed by the core from the scene's camera",
-                             classes="phonglab-pixel-caption")
                 with html.Div(classes="phonglab-legend", v_if="legend.length"):
                     with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
                                    title=("v.meaning",)):
@@ -728,7 +726,7 @@ class LessonApp(TrameApp):
                         v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
                         v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
                 html.Div(
-                    "{{ pixel_mode ? 'Per-pixel image from the scene camera · click picks on the mesh below' : "
+                    "{{ pixel_mode ? 'Per-pixel shading by the core · click to pick · turn the view and it follows' : "
                     "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
                     "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
                     classes="phonglab-hint",
@@ -807,13 +805,22 @@ class LessonApp(TrameApp):
                                         _widget(control, suffix="all")
 
     def close(self) -> None:
-        """Release the view's OpenGL resources (the session ended)."""
+        """Release the view's OpenGL resources and this session's trame registrations."""
+        if self._panels_handle is not None:
+            self._panels_handle.cancel()
+            self._panels_handle = None
         if self.view is not None:
             try:
                 self.view.close()
             except Exception:
                 log.exception("closing the view")
             self.view = None
+        # trame and trame-vtk keep every server (and its VTK object map) by name
+        from trame.app import core as trame_core
+        from trame_vtk.modules import vtk as trame_vtk_module
+
+        trame_core.AVAILABLE_SERVERS.pop(self.server.name, None)
+        trame_vtk_module.HELPERS_PER_SERVER.pop(self.server.name, None)
 
 
 _MISTAKE_SWITCH = ctl.Control(
