@@ -141,6 +141,57 @@ def test_plots_in_every_format(tmp_path, kind, ext):
         assert read_png(out).shape == (400, 600, 3)
 
 
+def content_boxes(fig):
+    """Window extents (pixels) of every drawn text and axes area of a figure."""
+    from matplotlib.text import Text
+
+    renderer = fig.canvas.get_renderer()
+    fig.draw(renderer)
+    # tick labels: only those of ticks inside the axis' view (the others are not drawn)
+    tick_labels, drawn_ticks = set(), []
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            lo, hi = sorted(axis.get_view_interval())
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                tick_labels.update({id(tick.label1), id(tick.label2)})
+                if lo - 1e-9 <= tick.get_loc() <= hi + 1e-9:
+                    drawn_ticks += [label for label in (tick.label1, tick.label2) if label.get_visible()]
+    boxes = []
+    texts = [t for t in fig.findobj(Text) if id(t) not in tick_labels] + drawn_ticks
+    for artist in texts:
+        if artist.get_visible() and artist.get_text().strip():
+            patch = artist.get_bbox_patch()
+            box = patch.get_window_extent(renderer) if patch is not None else artist.get_window_extent(renderer)
+            boxes.append((artist.get_text()[:40], box))
+    for ax in fig.axes:
+        # the drawn area (a polar half disc is drawn in the middle of its square axes)
+        boxes.append((f"axes {ax.name} {ax.get_title()[:30]!r}", ax.patch.get_window_extent(renderer)))
+    return boxes
+
+
+@pytest.mark.parametrize("kind", ["lobe", "lambert", "incidence"])
+@pytest.mark.parametrize("size", [(1200, 900), (800, 600), (1600, 600), (600, 900), (400, 300)])
+def test_plots_keep_their_text_inside_and_use_the_height(kind, size):
+    import matplotlib.pyplot as plt
+
+    from phonglab.render.plots import make_plot
+
+    fig = make_plot(kind, scene(), size)
+    try:
+        boxes = content_boxes(fig)
+    finally:
+        plt.close(fig)
+    width, height = size
+    margin = 2.0  # pixels of white at least between any text and the figure's edge
+    for name, box in boxes:
+        inside = (box.x0 >= margin and box.y0 >= margin
+                  and box.x1 <= width - margin and box.y1 <= height - margin)
+        assert inside, f"{kind} at {size}: {name!r} spans x {box.x0:.1f}..{box.x1:.1f}, y {box.y0:.1f}..{box.y1:.1f}"
+    # no empty band at the bottom: something reaches into the lowest sixth
+    lowest = min(box.y0 for _, box in boxes)
+    assert lowest < height / 6, f"{kind} at {size}: nothing below y = {lowest:.0f} px of {height}"
+
+
 def test_incidence_plot_needs_a_directed_light(tmp_path):
     ambient_only = scene().replace("lights", [{"type": "ambient", "intensity": 0.5}])
     with pytest.raises(FigureError, match="incidence"):

@@ -62,26 +62,19 @@ def lobe_plot(scene, size):
     angle_name = r"$\angle(N, H)$" if scene.model == "blinn-phong" else r"$\angle(R, V)$"
     fs = _font(size)
     fig = _figure(size)
-    polar = fig.add_subplot(1, 2, 1, projection="polar")
-    flat = fig.add_subplot(1, 2, 2)
+    polar_cell, flat_cell = _two_cells(fig, size, polar_first=True)
+    flat = fig.add_subplot(flat_cell)
+    curves = []
     phi = np.linspace(-math.pi / 2, math.pi / 2, 721)
     colors = plt.cm.viridis(np.linspace(0.05, 0.85, len(exponents)))
     for alpha, color in zip(exponents, colors):
         lobe = np.maximum(0.0, np.cos(phi)) ** alpha
         mine = alpha == alpha_scene
         label = rf"$\alpha$ = {alpha:g}" + ("  (this scene)" if mine else "") + f"   half at {half_width(alpha):.1f}°"
-        width = 3.2 if mine else 1.6
-        style = "-" if mine or alpha in LOBE_EXPONENTS else "--"
-        polar.plot(phi, lobe, color="black" if mine else color, lw=width, ls=style)
-        flat.plot(np.degrees(phi), lobe, color="black" if mine else color, lw=width, ls=style, label=label)
-    # polar: R (or H) straight up, the surface along the horizontal
-    polar.set_theta_zero_location("N")
-    polar.set_theta_direction(-1)
-    polar.set_thetamin(-90)
-    polar.set_thetamax(90)
-    polar.set_rticks([0.25, 0.5, 0.75, 1.0])
-    polar.tick_params(labelsize=fs * 0.8)
-    polar.set_title(f"lobe around {'N' if scene.model == 'blinn-phong' else 'R'} (polar)", fontsize=fs * 1.1)
+        style = dict(color="black" if mine else color, lw=3.2 if mine else 1.6,
+                     ls="-" if mine or alpha in LOBE_EXPONENTS else "--")
+        curves.append((lobe, style))
+        flat.plot(np.degrees(phi), lobe, label=label, **style)
     flat.set_xlim(-90, 90)
     flat.set_ylim(0, 1.05)
     flat.set_xticks(range(-90, 91, 30))
@@ -90,10 +83,18 @@ def lobe_plot(scene, size):
     flat.tick_params(labelsize=fs * 0.85)
     flat.grid(alpha=0.3)
     flat.set_title("larger α: a smaller, sharper highlight", fontsize=fs * 1.1)
-    handles, labels = flat.get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=fs * 0.85, frameon=False)
-    fig.suptitle(r"Specular lobe  $\max(0,\cos\varphi)^{\alpha}$", fontsize=fs * 1.35, weight="bold")
-    fig.tight_layout(rect=(0, 0.12, 1, 0.94))
+    _fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
+    title = fig.suptitle(r"Specular lobe  $\max(0,\cos\varphi)^{\alpha}$", fontsize=fs * 1.35, weight="bold",
+                         va="top", y=1 - _pad(size) / size[1])
+    legend = _bottom_legend(fig, *flat.get_legend_handles_labels(), fontsize=fs * 0.85)
+    _tight(fig, title, legend)
+    _keep_inside(flat.title, fig, _pad(size))
+    # polar: R (or H) straight up, the surface along the horizontal, in the free left cell
+    polar = _half_polar(fig, polar_cell, flat, fs,
+                        f"lobe around {'N' if scene.model == 'blinn-phong' else 'R'} (polar)")
+    for lobe, style in curves:
+        polar.plot(phi, lobe, **style)
+    polar.set_rticks([0.25, 0.5, 0.75, 1.0])
     return fig
 
 
@@ -105,8 +106,8 @@ def lambert_plot(scene, size):
     """
     fs = _font(size)
     fig = _figure(size)
-    flat = fig.add_subplot(1, 2, 1)
-    polar = fig.add_subplot(1, 2, 2, projection="polar")
+    flat_cell, polar_cell = _two_cells(fig, size, polar_first=False)
+    flat = fig.add_subplot(flat_cell)
     theta = np.linspace(0, 180, 721)
     cos = np.cos(np.radians(theta))
     flat.plot(theta, cos, color="0.6", ls="--", lw=1.4, label=r"$\cos\theta$")
@@ -120,13 +121,18 @@ def lambert_plot(scene, size):
         angle = math.degrees(math.acos(max(-1.0, min(1.0, vec.nl))))
         flat.axvline(angle, color=PAPER_COLORS["N"], lw=1.2)
         flat.plot([angle], [max(0.0, vec.nl)], "o", color=PAPER_COLORS["N"])
+        # the numbers on a white patch, on the side of the line with more room
+        left = angle > 120
         flat.annotate(
             f"probe: θ = {angle:.1f}°\nn·l = {vec.nl:.3f}",
             (angle, max(0.0, vec.nl)),
-            xytext=(14, -46),
+            xytext=(-10 if left else 10, -40),
             textcoords="offset points",
+            ha="right" if left else "left",
+            va="top",
             fontsize=fs * 0.85,
             color=PAPER_COLORS["N"],
+            bbox=dict(boxstyle="round,pad=0.25", facecolor="white", edgecolor="none", alpha=0.85),
         )
     flat.set_xlim(0, 180)
     flat.set_ylim(-1.05, 1.1)
@@ -137,20 +143,120 @@ def lambert_plot(scene, size):
     flat.grid(alpha=0.3)
     flat.legend(fontsize=fs * 0.85, loc="lower left")
     flat.set_title("the same light spread over a larger area", fontsize=fs * 1.05)
+    _fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
+    title = fig.suptitle(r"Lambert's cosine law  $I_d = k_d\, I_l \max(0, n\cdot l)$", fontsize=fs * 1.35,
+                         weight="bold", va="top", y=1 - _pad(size) / size[1])
+    _tight(fig, title)
+    _keep_inside(flat.title, fig, _pad(size))
     # polar: the light's direction against the normal, radius = brightness
+    polar = _half_polar(fig, polar_cell, flat, fs, "brightness for light arriving\n" r"at $\theta$ from N (polar)")
     phi = np.linspace(-math.pi / 2, math.pi / 2, 361)
     polar.plot(phi, np.cos(phi), color=PAPER_COLORS["L"], lw=3)
     polar.fill(phi, np.cos(phi), color=PAPER_COLORS["L"], alpha=0.15)
+    polar.set_rticks([0.5, 1.0])
+    return fig
+
+
+def _two_cells(fig, size, *, polar_first: bool):
+    """Two grid cells for a polar half disc and a cartesian plot: side by side, or stacked in a tall figure.
+
+    Side by side, the polar cell is a little wider (a half disc is twice as
+    wide as tall); stacked, the polar cell is on top and lower.
+    """
+    if size[0] >= 1.2 * size[1]:
+        ratios = (1.15, 1) if polar_first else (1, 1.15)
+        grid = fig.add_gridspec(1, 2, width_ratios=ratios)
+        return grid[0, 0], grid[0, 1]
+    grid = fig.add_gridspec(2, 1, height_ratios=(0.75, 1))
+    return (grid[0, 0], grid[1, 0]) if polar_first else (grid[1, 0], grid[0, 0])
+
+
+def _cell_width(fig, cell) -> float:
+    """About the width in pixels a grid cell's column gets in a tight layout: its share of the figure."""
+    width = fig.get_size_inches()[0] * fig.dpi
+    grid = cell.get_gridspec()
+    ratios = grid.get_width_ratios() or [1.0] * grid.ncols
+    return 0.95 * width * ratios[cell.colspan.start] / sum(ratios)
+
+
+def _pad(size) -> float:
+    """The free border of a plot, in pixels."""
+    return 0.025 * min(size)
+
+
+def _points_to_px(points: float) -> float:
+    return points * 100.0 / 72.0
+
+
+def _bottom_legend(fig, handles, labels, fontsize):
+    """A frameless legend at the bottom centre, in as many columns (3, 2 or 1) as fit the width."""
+    width = fig.get_size_inches()[0] * fig.dpi
+    renderer = fig.canvas.get_renderer()
+    legend = None
+    for columns in (3, 2, 1):
+        if legend is not None:
+            legend.remove()
+        legend = fig.legend(handles, labels, loc="lower center", ncol=columns, fontsize=fontsize, frameon=False,
+                            bbox_to_anchor=(0.5, 0.0))
+        if legend.get_window_extent(renderer).width <= width * 0.96:
+            break
+    return legend
+
+
+def _tight(fig, title, legend=None) -> None:
+    """Tight layout of the axes between the title (shrunk to the width if needed) and a bottom legend."""
+    width, height = fig.get_size_inches() * fig.dpi
+    renderer = fig.canvas.get_renderer()
+    _fit_width(title, renderer, width * 0.96)
+    top = title.get_window_extent(renderer).y0 - 0.01 * height
+    bottom = legend.get_window_extent(renderer).y1 if legend is not None else 0.0
+    fig.tight_layout(rect=(0, bottom / height, 1, top / height), w_pad=3.0)
+
+
+def _half_polar(fig, cell, neighbour, fs, title: str):
+    """A polar axes for θ in [-90°, 90°] (θ = 0 straight up), as large as fits in a grid cell.
+
+    The half disc is centred in ``cell`` horizontally. Beside the
+    ``neighbour`` axes it is centred in the neighbour's height and its
+    ``title`` is level with the neighbour's; above the neighbour it fills
+    the cell down to the neighbour's title. A polar axes is square with the half disc in its
+    middle, so the square overhangs the half disc by a quarter above and
+    below, where nothing is drawn.
+    """
+    width, height = fig.get_size_inches() * fig.dpi
+    renderer = fig.canvas.get_renderer()
+    box = cell.get_position(fig)
+    x0, x1 = box.x0 * width, box.x1 * width
+    beside = box.y0 < neighbour.get_position().y1 and neighbour.get_position().y0 < box.y1
+    if beside:
+        # level with the neighbour: its height, and the title on the line of its title
+        span = neighbour.get_window_extent(renderer)
+        bottom, title_y = span.y0, neighbour.title.get_window_extent(renderer).y0
+    else:
+        # above the neighbour: the cell's height, down to the top of the neighbour's title
+        bottom = neighbour.title.get_window_extent(renderer).y1 + _points_to_px(fs)
+        title_y = box.y1 * height - _points_to_px(fs * 1.6)
+    label = fig.text((x0 + x1) / 2 / width, title_y / height, title, ha="center", va="bottom",
+                     fontsize=neighbour.title.get_fontsize(), linespacing=1.3)
+    _fit_width(label, renderer, x1 - x0)
+    top = label.get_window_extent(renderer).y0 - _points_to_px(fs * 0.5)
+    if beside:
+        top = min(top, span.y1)
+    # room for the angle labels around the rim and the radius labels under the base
+    side = _points_to_px(fs * 0.8 * 3.2)
+    above, below = _points_to_px(fs * 0.8 * 1.8), _points_to_px(fs * 0.8 * 2.0)
+    room_h = top - bottom - above - below
+    radius = max(10.0, min((x1 - x0) / 2 - side, room_h))
+    base = bottom + below + (room_h - radius) / 2
+    centre_x = (x0 + x1) / 2
+    polar = fig.add_axes(((centre_x - radius) / width, (base - radius / 2) / height, 2 * radius / width,
+                          2 * radius / height), projection="polar")
     polar.set_theta_zero_location("N")
     polar.set_theta_direction(-1)
     polar.set_thetamin(-90)
     polar.set_thetamax(90)
-    polar.set_rticks([0.5, 1.0])
     polar.tick_params(labelsize=fs * 0.8)
-    polar.set_title(r"brightness for light arriving at $\theta$ from N (polar)", fontsize=fs * 1.05)
-    fig.suptitle(r"Lambert's cosine law  $I_d = k_d\, I_l \max(0, n\cdot l)$", fontsize=fs * 1.35, weight="bold")
-    fig.tight_layout(rect=(0, 0, 1, 0.94))
-    return fig
+    return polar
 
 
 def _probe_vectors(scene):
@@ -225,40 +331,26 @@ def incidence_plot(scene, size):
     def out_of_plane(u) -> float:
         return math.degrees(math.asin(max(-1.0, min(1.0, float(u @ z_axis)))))
 
-    fs = _font(size)
-    fig = _figure(size)
-    ax = fig.add_axes((0.03, 0.08, 0.6, 0.8))
-    ax.set_aspect("equal")
-    ax.axis("off")
-    ax.set_xlim(-1.35, 1.35)
-    ax.set_ylim(-0.45, 1.3)
-    # the surface, hatched below
-    ax.plot([-1.3, 1.3], [0, 0], color="black", lw=2)
-    ax.fill_between([-1.3, 1.3], [-0.12, -0.12], [0, 0], hatch="///", facecolor="white", edgecolor="0.6", lw=0)
+    # everything is placed in data units first (y along N, x along the surface); the
+    # figure's layout then scales the diagram to the room the text leaves
     vectors = {"N": n, "L": l, "R": r, "V": v, "H": h}
     placed = []
+    letters = []
     for name, u in vectors.items():
         p = flat(u)
         projected = abs(out_of_plane(u)) > 1.0
-        ax.annotate(
-            "", xy=tuple(p), xytext=(0, 0),
-            arrowprops=dict(arrowstyle="-|>", lw=2.6, color=PAPER_COLORS[name], mutation_scale=22,
-                            linestyle="--" if projected else "-", shrinkA=0, shrinkB=0),
-        )
         spot = _free_spot(p * 1.1 + np.array([0.0, 0.03]), placed, 0.12)
         placed.append(spot)
-        ax.text(*spot, name + ("′" if projected else ""), color=PAPER_COLORS[name], fontsize=fs * 1.4,
-                weight="bold", ha="center", va="center")
+        letters.append((name, p, projected, spot))
     # angle arcs, drawn between the in-plane directions, labelled with the true angles
-    arcs = [("L", "N", 0.32, _angle(n, l), r"$\theta_i$"), ("N", "R", 0.38, _angle(n, r), r"$\theta_r$"),
-            ("R", "V", 0.55, _angle(r, v), r"$\varphi$"), ("N", "H", 0.24, _angle(n, h), r"$\psi$")]
-    for a, b, radius, true_angle, symbol in arcs:
+    arcs = []
+    for a, b, radius, symbol in [("L", "N", 0.32, r"$\theta_i$"), ("N", "R", 0.38, r"$\theta_r$"),
+                                 ("R", "V", 0.55, r"$\varphi$"), ("N", "H", 0.24, r"$\psi$")]:
         pa, pb = flat(vectors[a]), flat(vectors[b])
         ta, tb = math.degrees(math.atan2(pa[1], pa[0])), math.degrees(math.atan2(pb[1], pb[0]))
         lo, hi = sorted((ta, tb))
         if hi - lo > 180:
             lo, hi = hi, lo + 360
-        ax.add_patch(Arc((0, 0), 2 * radius, 2 * radius, theta1=lo, theta2=hi, color="0.25", lw=1.2))
         mid = math.radians((lo + hi) / 2)
         direction = np.array([math.cos(mid), math.sin(mid)])
         spot = direction * (radius + 0.09)
@@ -266,28 +358,150 @@ def incidence_plot(scene, size):
         while any(np.linalg.norm(spot - q) < 0.1 for q in placed) and np.linalg.norm(spot) < 1.2:
             spot = spot + 0.06 * direction
         placed.append(spot)
-        ax.text(*spot, symbol, fontsize=fs * 1.1, ha="center", va="center", color="0.15")
-    # the numbers
+        arcs.append((radius, lo, hi, spot, symbol))
+    # the drawing's extent: the arrows, their letters and the surface with its hatching
+    points = np.array([p for _, p, _, _ in letters] + placed + [(0.0, 0.0)])
+    margin = 0.16
+    x_lo, x_hi = min(-1.0, points[:, 0].min() - margin), max(1.0, points[:, 0].max() + margin)
+    y_lo, y_hi = min(-0.12 - 0.04, points[:, 1].min() - margin), points[:, 1].max() + margin
+
+    # the numbers, in blocks: angles, then dot products and the specular factor
     alpha = scene.material.shininess
     specular_cos = vec.nh if scene.model == "blinn-phong" else vec.rv
     cos_symbol = r"n\cdot h" if scene.model == "blinn-phong" else r"r\cdot v"
-    lines = [
-        rf"$\theta_i = \angle(N, L)$ = {_angle(n, l):.1f}°",
-        rf"$\theta_r = \angle(N, R)$ = {_angle(n, r):.1f}°",
-        rf"$\varphi = \angle(R, V)$ = {_angle(r, v):.1f}°",
-        rf"$\psi = \angle(N, H)$ = {_angle(n, h):.1f}°",
-        "",
-        rf"$n\cdot l$ = {vec.nl:.3f}",
-        rf"$r\cdot v$ = {vec.rv:.3f}",
-        rf"$n\cdot h$ = {vec.nh:.3f}",
-        rf"specular factor $\max(0, {cos_symbol})^{{{alpha:g}}}$"
-        + f" = {max(0.0, specular_cos) ** alpha if vec.nl > 0 else 0.0:.3f}",
+    factor = max(0.0, specular_cos) ** alpha if vec.nl > 0 else 0.0
+    blocks = [
+        "\n".join([
+            rf"$\theta_i = \angle(N, L)$ = {_angle(n, l):.1f}°",
+            rf"$\theta_r = \angle(N, R)$ = {_angle(n, r):.1f}°",
+            rf"$\varphi = \angle(R, V)$ = {_angle(r, v):.1f}°",
+            rf"$\psi = \angle(N, H)$ = {_angle(n, h):.1f}°",
+        ]),
+        "\n".join([
+            rf"$n\cdot l$ = {vec.nl:.3f}",
+            rf"$r\cdot v$ = {vec.rv:.3f}",
+            rf"$n\cdot h$ = {vec.nh:.3f}",
+            rf"specular factor $\max(0, {cos_symbol})^{{{alpha:g}}}$ = {factor:.3f}",
+        ]),
     ]
     if abs(out_of_plane(v)) > 1.0:
-        lines += ["", f"V leaves the plane by {abs(out_of_plane(v)):.1f}°,", f"H by {abs(out_of_plane(h)):.1f}°:",
-                  "V′, H′ are their projections"]
-    fig.text(0.64, 0.82, "\n".join(lines), fontsize=fs * 0.95, va="top", ha="left", linespacing=1.6)
+        blocks.append(f"V leaves the plane by {abs(out_of_plane(v)):.1f}°,\nH by {abs(out_of_plane(h)):.1f}°:\n"
+                      "V′, H′ are their projections")
+
+    fs = _font(size)
+    fig = _figure(size)
     px, py, pz = point
-    fig.suptitle(f"Plane of incidence at the probe ({px:.2f}, {py:.2f}, {pz:.2f})", fontsize=fs * 1.35,
-                 weight="bold")
+    title = fig.suptitle(f"Plane of incidence at the probe ({px:.2f}, {py:.2f}, {pz:.2f})", fontsize=fs * 1.35,
+                         weight="bold", va="top", y=1 - 0.02 * min(size) / size[1])
+    texts = [fig.text(0, 0, block, fontsize=fs * 0.95, ha="left", va="top", linespacing=1.6,
+                      bbox=dict(boxstyle="round,pad=0.6", facecolor="0.965", edgecolor="0.8"))
+             for block in blocks]
+    rect = _diagram_beside_text(fig, title, texts, (x_hi - x_lo, y_hi - y_lo))
+    ax = fig.add_axes(rect)
+    ax.set_xlim(x_lo, x_hi)
+    ax.set_ylim(y_lo, y_hi)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    # the surface, hatched below
+    ax.plot([x_lo, x_hi], [0, 0], color="black", lw=2)
+    ax.fill_between([x_lo, x_hi], [-0.12, -0.12], [0, 0], hatch="///", facecolor="white", edgecolor="0.6", lw=0)
+    # arrows as thick as on a full-size figure, thinner when the diagram is drawn small
+    thin = min(1.0, rect[2] * size[0] / (x_hi - x_lo) / 300.0)
+    for name, p, projected, spot in letters:
+        ax.annotate(
+            "", xy=tuple(p), xytext=(0, 0),
+            arrowprops=dict(arrowstyle="-|>", lw=2.6 * thin, color=PAPER_COLORS[name], mutation_scale=22 * thin,
+                            linestyle="--" if projected else "-", shrinkA=0, shrinkB=0),
+        )
+        ax.text(*spot, name + ("′" if projected else ""), color=PAPER_COLORS[name], fontsize=fs * 1.4,
+                weight="bold", ha="center", va="center")
+    for radius, lo, hi, spot, symbol in arcs:
+        ax.add_patch(Arc((0, 0), 2 * radius, 2 * radius, theta1=lo, theta2=hi, color="0.25", lw=1.2))
+        ax.text(*spot, symbol, fontsize=fs * 1.1, ha="center", va="center", color="0.15")
     return fig
+
+
+def _fit_width(text, renderer, width: float) -> None:
+    """Shrink ``text``'s font until it is at most ``width`` pixels wide."""
+    extent = text.get_window_extent(renderer).width
+    if extent > width > 0:
+        text.set_fontsize(text.get_fontsize() * width / extent * 0.98)
+
+
+def _keep_inside(text, fig, pad: float) -> None:
+    """Shrink a centred text (an axes title) until it stays ``pad`` pixels inside the figure's sides."""
+    renderer = fig.canvas.get_renderer()
+    box = text.get_window_extent(renderer)
+    centre = (box.x0 + box.x1) / 2
+    width = fig.get_size_inches()[0] * fig.dpi
+    _fit_width(text, renderer, 2 * min(centre - pad, width - pad - centre))
+
+
+def _diagram_beside_text(fig, title, texts, data_size) -> tuple[float, float, float, float]:
+    """Place the text boxes under ``title`` and return the axes rectangle (figure fractions) for a diagram.
+
+    Three arrangements are tried: the diagram left of the boxes (stacked in
+    a column), and the diagram above them, the boxes side by side in a row
+    or stacked in a column; the one that draws the diagram largest wins.
+    The text shrinks while none of them leaves the diagram half the size
+    it would have alone. The rectangle has the diagram's aspect (``data_size`` = width,
+    height in data units), so an equal-aspect axes fills it exactly.
+    """
+    width, height = fig.get_size_inches() * fig.dpi
+    pad = 0.03 * min(width, height)
+    gap = 0.025 * min(width, height)
+    dx, dy = data_size
+    renderer = fig.canvas.get_renderer()
+    _fit_width(title, renderer, width - 2 * pad)
+    for _ in range(8):
+        top = title.get_window_extent(renderer).y0 - gap
+        room_w, room_h = width - 2 * pad, top - pad
+        # the boxes' sizes and where each text's anchor sits inside its box
+        boxes = []
+        for t in texts:
+            t.set_position((0.5, 0.5))
+            t.draw(renderer)
+            box = t.get_bbox_patch().get_window_extent(renderer)
+            anchor = t.get_transform().transform((0.5, 0.5))
+            boxes.append((box.width, box.height, anchor[0] - box.x0, anchor[1] - box.y1))
+        column_w = max(b[0] for b in boxes)
+        column_h = sum(b[1] for b in boxes) + gap * (len(boxes) - 1)
+        row_w = sum(b[0] for b in boxes) + gap * (len(boxes) - 1)
+        row_h = max(b[1] for b in boxes)
+        # diagram scale (pixels per data unit) for each arrangement; 0 where the text does not fit
+        scales = {
+            "beside": min((room_w - column_w - gap) / dx, room_h / dy) if column_h <= room_h else 0.0,
+            "row below": min(room_w / dx, (room_h - row_h - gap) / dy) if row_w <= room_w else 0.0,
+            "column below": min(room_w / dx, (room_h - column_h - gap) / dy) if column_w <= room_w else 0.0,
+        }
+        arrangement = max(scales, key=scales.get)
+        scale = scales[arrangement]
+        # good enough when the diagram keeps half the size it would have without any text
+        if scale >= 0.5 * min(room_w / dx, room_h / dy) or texts[0].get_fontsize() < 6:
+            break
+        for t in texts:
+            t.set_fontsize(t.get_fontsize() * 0.88)
+    scale = max(scale, 1e-3)
+    dw, dh = dx * scale, dy * scale
+    if arrangement == "beside":
+        # the diagram on the left, the boxes in a column on its right, all centred
+        x0 = (width - (dw + gap + column_w)) / 2
+        y_mid = pad + room_h / 2
+        rect = (x0, y_mid - dh / 2, dw, dh)
+        x, y = x0 + dw + gap, y_mid + column_h / 2
+        steps = [(0.0, -(h + gap)) for _, h, _, _ in boxes]
+    else:
+        # the diagram on top, the boxes under it (in a row or a column), all centred
+        text_w, text_h = (row_w, row_h) if arrangement == "row below" else (column_w, column_h)
+        y0 = pad + (room_h - (dh + gap + text_h)) / 2
+        rect = ((width - dw) / 2, y0 + text_h + gap, dw, dh)
+        x, y = (width - text_w) / 2, y0 + text_h
+        if arrangement == "row below":
+            steps = [(w + gap, 0.0) for w, _, _, _ in boxes]
+        else:
+            steps = [(0.0, -(h + gap)) for _, h, _, _ in boxes]
+    # each box's top-left corner at (x, y), then on to the next
+    for t, (_, _, ax_, ay), (step_x, step_y) in zip(texts, boxes, steps):
+        t.set_position(((x + ax_) / width, (y + ay) / height))
+        x, y = x + step_x, y + step_y
+    return (rect[0] / width, rect[1] / height, rect[2] / width, rect[3] / height)
