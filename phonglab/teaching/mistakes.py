@@ -431,19 +431,17 @@ def shade_scene(scene, points, normals, mistake: str | None = None):
     -------
     phonglab.core.Shading
     """
-    if mistake is None:
-        from phonglab import scene as scene_module
+    from phonglab import scene as scene_module  # scenes are optional here: imported on use
+    from phonglab.scene.planner import viewer
 
+    if mistake is None:
         return scene_module.shade(scene, points, normals)
-    variant = get_mistake(mistake)
-    camera = scene.camera
-    viewer = {"view_direction": camera.view_direction} if camera.infinite_viewer else {"eye": camera.eye}
-    return variant.shade(
+    return get_mistake(mistake).shade(
         points,
         normals,
         material=scene.material,
         lights=scene.lights,
         model=scene.model,
         two_sided=scene.two_sided,
-        **viewer,
+        **viewer(scene),
     )
