@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 vtk = pytest.importorskip("vtk")
 
 import phonglab as pl  # noqa: E402
-from phonglab.render import glyphs  # noqa: E402
 from phonglab.render.view import SceneView  # noqa: E402
 from phonglab.scene import Camera, Geometry, Scene  # noqa: E402
 
@@ -199,3 +200,64 @@ def test_without_vtk_text_only_geometry_actors_remain_and_screenshots_keep_label
     # the letters and legend are drawn on the image either way, identically
     assert np.array_equal(a, b), "VTK text actors leaked into the screenshot"
     assert [e[0] for e in plain.legend()] == list("NLRVH")
+
+
+ROOT = Path(__file__).resolve().parents[1]
+FRAMED = ["assets/scenes/sphere.toml", "lessons/01-light-and-surfaces.md", "lessons/04-specular.md",
+          "lessons/07-light-sources.md", "lessons/09-two-sided-and-hard-cases.md"]
+
+
+@pytest.mark.parametrize("size", [(800, 600), (300, 480)])
+@pytest.mark.parametrize("source", FRAMED)
+def test_arrow_tips_and_letters_stay_inside_the_window(source, size):
+    from phonglab.render.figures import resolve_scene
+
+    scene = resolve_scene(ROOT / source)
+    view = SceneView(scene, size=size)
+    try:
+        view.render()
+        camera = view.renderer.GetActiveCamera()
+        marks = view.vector_marks()
+        angle = camera.GetViewAngle()
+        eye, focal = np.array(camera.GetPosition()), np.array(camera.GetFocalPoint())
+    finally:
+        view.close()
+    width, height = size
+    where = f"{source} at {width}x{height}, view angle {angle:.1f} (scene {scene.camera.view_angle})"
+    assert set(marks) == set("NLRVH"), f"{where}: marks for {sorted(marks)}"
+    for letter, ((x, y), (left, top, right, bottom)) in marks.items():
+        assert 0 <= x <= width and 0 <= y <= height, f"{where}: the {letter} tip at ({x:.0f}, {y:.0f})"
+        assert left >= 0 and top >= 0 and right <= width and bottom <= height, (
+            f"{where}: the letter {letter} spans x {left:.0f}..{right:.0f}, y {top:.0f}..{bottom:.0f}")
+    # the camera keeps the scene's eye and direction; only the view angle may grow
+    assert np.allclose(eye, scene.camera.eye) and np.allclose(focal, scene.camera.focal_point), where
+    assert angle >= scene.camera.view_angle - 1e-9, where
+    if angle > scene.camera.view_angle + 1e-6:
+        # widened only as far as needed: some letter comes close to an edge
+        gaps = [min(left, top, width - right, height - bottom) for _, (left, top, right, bottom) in marks.values()]
+        assert min(gaps) < 0.1 * min(size), f"{where}: widened although every letter is {min(gaps):.0f} px inside"
+
+
+def test_view_angle_is_the_scenes_without_arrows_and_follows_the_vectors_shown():
+    scene = red_sphere(camera={"eye": [0, 0, 3.2]})  # close enough that the arrows leave the scene's frame
+    view = SceneView(scene, size=(400, 300), vectors=None)
+    try:
+        view.render()
+        plain = view.renderer.GetActiveCamera().GetViewAngle()
+        before = len(props(view))
+        view.set_vectors("NLRVH")
+        view.render()
+        widened = view.renderer.GetActiveCamera().GetViewAngle()
+        view.update(scene.replace("material.ks", 0.1))  # a material change never refits
+        same = view.renderer.GetActiveCamera().GetViewAngle()
+        view.set_vectors(None)
+        view.render()
+        back = view.renderer.GetActiveCamera().GetViewAngle()
+        after = len(props(view))
+    finally:
+        view.close()
+    assert plain == scene.camera.view_angle, f"no arrows, yet the view angle is {plain}"
+    assert widened > plain + 1, f"arrows shown close up, yet the view angle stayed {widened}"
+    assert same == widened, f"a material change moved the view angle from {widened} to {same}"
+    assert back == plain, f"arrows hidden again, yet the view angle is {back}"
+    assert after == before, f"{before} props became {after}"
