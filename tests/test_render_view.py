@@ -261,3 +261,25 @@ def test_view_angle_is_the_scenes_without_arrows_and_follows_the_vectors_shown()
     assert same == widened, f"a material change moved the view angle from {widened} to {same}"
     assert back == plain, f"arrows hidden again, yet the view angle is {back}"
     assert after == before, f"{before} props became {after}"
+
+
+def test_a_camera_set_from_outside_keeps_its_view_angle():
+    # the web app copies the browser's camera (position and view angle) in before a pixel-mode image
+    scene = red_sphere(camera={"eye": [0, 0, 3.2]})
+    view = SceneView(scene, size=(400, 300))
+    try:
+        camera = view.renderer.GetActiveCamera()
+        camera.SetPosition(1.0, 0.5, 3.0)
+        camera.SetViewAngle(24.0)
+        view.update(scene.replace("lights[1].position", [-2, 2.5, 3]))  # the arrows L, R, H move
+        view.screenshot(annotate=False)
+        kept = camera.GetViewAngle()
+        view.update(scene.replace("camera.eye", [0, 0, 3.0]))  # the scene's own camera again
+        view.render()
+        refit = camera.GetViewAngle()
+        position = camera.GetPosition()
+    finally:
+        view.close()
+    assert kept == 24.0, f"the outside camera's view angle became {kept}"
+    assert np.allclose(position, (0, 0, 3.0)) and refit > scene.camera.view_angle, (
+        f"back on the scene's camera at {position}, the view angle is {refit}")

@@ -20,7 +20,10 @@ never adds an actor.
 Framing: the camera stays at the scene's eye and looks where the scene says;
 when arrows are shown and a tip (with the letter beyond it) would leave the
 window, the view angle is widened just enough to hold it. Nothing else
-about the camera changes, and a change of material never refits it.
+about the camera changes, and a change of material never refits it. Once
+the VTK camera has been moved off the scene's eye (a browser's camera copied
+in), the view angle is left as it was set until the scene's camera is
+applied again.
 
 Directions point *away from the surface point*: every arrow starts at the probe.
 """
@@ -394,15 +397,26 @@ class SceneView:
 
         The camera's position, focal point and up vector are left alone. The
         view angle spans the shorter side of the window (see :meth:`render`).
+        A camera moved away from the scene's eye or focal point (set from a
+        browser's view, say) keeps the view angle it was given.
         """
         camera = self.renderer.GetActiveCamera()
         width, height = self.render_window.GetSize()
         camera.SetUseHorizontalViewAngle(bool(width < height))
+        if not self._camera_is_the_scenes(camera):
+            return  # turned by someone else (a browser's camera): its view angle is theirs
         angle = float(self.scene.camera.view_angle)
         if self._shown_letters():
             angle = max(angle, self._angle_for_arrows(camera, width, height))
         if camera.GetViewAngle() != angle:
             camera.SetViewAngle(angle)
+
+    def _camera_is_the_scenes(self, camera) -> bool:
+        """True while the VTK camera stands at the scene's eye and looks at its focal point."""
+        scene_camera = self.scene.camera
+        scale = max(1.0, float(np.linalg.norm(np.subtract(scene_camera.eye, scene_camera.focal_point))))
+        return bool(np.allclose(camera.GetPosition(), scene_camera.eye, rtol=0, atol=1e-6 * scale)
+                    and np.allclose(camera.GetFocalPoint(), scene_camera.focal_point, rtol=0, atol=1e-6 * scale))
 
     def _angle_for_arrows(self, camera, width: int, height: int) -> float:
         """The smallest view angle (degrees) that shows the arrows' tips with their letters.
