@@ -222,13 +222,22 @@ class Page:
         return self.page.locator(selector).first.inner_text()
 
     def readout(self) -> dict:
-        """The probe readout: point, dots (name -> float) and terms (name -> text)."""
-        dots = {}
-        for name in ("n·l", "r·v", "n·h"):
-            dots[name] = float(self.text(f'[data-name="{name}"]'))
-        point = self.text(".phonglab-point").strip("()").split(",")
-        return {"point": [float(c) for c in point], "dots": dots,
-                "terms": {t: self.text(f'[data-term="{t}"]') for t in ("ambient", "diffuse", "specular", "total")}}
+        """The probe readout, read in one go: point, dots (name -> float) and terms (name -> text)."""
+        raw = self.page.evaluate(
+            """() => {
+                const text = (s) => { const e = document.querySelector(s); return e ? e.innerText.trim() : null; };
+                const dots = {}, terms = {};
+                for (const e of document.querySelectorAll('[data-name]')) dots[e.dataset.name] = e.innerText.trim();
+                for (const e of document.querySelectorAll('[data-term]')) terms[e.dataset.term] = e.innerText.trim();
+                return { point: text('.phonglab-point'), dots, terms };
+            }"""
+        )
+        assert raw["point"] and len(raw["dots"]) == 3, f"no readout on the page: {raw}"
+        return {
+            "point": [float(c) for c in raw["point"].strip("()").split(",")],
+            "dots": {name: float(value) for name, value in raw["dots"].items()},
+            "terms": raw["terms"],
+        }
 
     def slider(self, key):
         """The thumb of the lesson's slider for a state key."""
