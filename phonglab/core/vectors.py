@@ -60,9 +60,10 @@ def normalize_c(v, *, out=None):
     """
     v = np.asarray(v)
     x, y, z = v[0], v[1], v[2]
-    ss = x * x
-    ss += y * y
-    ss += z * z
+    with np.errstate(over="ignore", under="ignore"):  # out-of-range sums are detected below
+        ss = x * x
+        ss += y * y
+        ss += z * z
     lo, hi = _fast_range(v.dtype)
     if ss.size == 0 or (ss.min() > lo and ss.max() < hi):
         # direct: |v| = sqrt(x² + y² + z²) everywhere
@@ -166,8 +167,9 @@ def cos_power(d, lit, shininess):
         return lit.astype(dtype)
     np.minimum(d, dtype.type(1), out=d)  # clamp cos to [0, 1]
     t = log1p_neg(d)  # -inf at d = 1: exp gives exactly 0
-    t *= alpha
-    np.exp(t, out=t)
+    with np.errstate(over="ignore", under="ignore"):  # a huge α·log may reach -inf: exp gives 0
+        t *= alpha
+        np.exp(t, out=t)
     t *= lit
     return t
 
