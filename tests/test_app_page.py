@@ -137,6 +137,30 @@ def test_an_unexpected_failure_is_reported_not_raised(app, monkeypatch):
     assert "boom" in app.state.notice["text"], app.state.notice
 
 
+@pytest.mark.parametrize("call", [
+    lambda app: app.open_lesson("two"),
+    lambda app: app.open_lesson(None, 5, x=1),
+    lambda app: app.apply_experiment(99),
+    lambda app: app.apply_experiment({"a": 1}),
+    lambda app: app.on_camera({"position": [0, 0, "far"]}),
+    lambda app: app.on_camera([1, 2, 3]),
+    lambda app: app.reset_lesson(1, 2, 3),
+])
+def test_triggers_with_odd_arguments_never_raise(app, call):
+    scene = app.scene
+    call(app)
+    assert app.scene == scene
+
+
+def test_a_failing_trigger_becomes_a_notice(app, monkeypatch):
+    def broken(*args, **kwargs):
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr("phonglab.render.figure", broken)
+    app.export_figure()
+    assert app.state.notice["kind"] == "error" and "disk full" in app.state.notice["text"], app.state.notice
+
+
 def test_a_click_ray_moves_the_probe_to_the_first_surface_hit(app):
     # a ray from the eye towards (−0.5, 0.2, 0) hits the front of the unit sphere
     eye, target = np.array([0.0, 0.0, 4.0]), np.array([-0.5, 0.2, 0.0])

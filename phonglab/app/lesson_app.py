@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import asyncio
 import base64
+import functools
 import io
 import json
 import logging
@@ -62,6 +63,21 @@ MAX_PIXEL_SIDE = 1600
 PANEL_DELAY = 0.004
 #: scene fields whose change only recolours the mesh (no geometry, arrow or marker moves)
 COLOUR_ONLY_FIELDS = {"material", "model"}
+
+
+def _guarded(method):
+    """Run a browser-triggered method; any failure becomes a notice on the page, never an exception."""
+
+    @functools.wraps(method)
+    def run(self, *args, **kwargs):
+        try:
+            return method(self, *args, **kwargs)
+        except Exception as exc:
+            log.exception("%s failed", method.__name__)
+            self.notify("error", f"Could not {method.__name__.replace('_', ' ')}: {type(exc).__name__}: {exc}")
+            return None
+
+    return run
 
 
 @dataclass
@@ -238,7 +254,8 @@ class LessonApp(TrameApp):
     # ------------------------------------------------------------------
     # lessons
 
-    def open_lesson(self, index) -> None:
+    @_guarded
+    def open_lesson(self, index=None, *_, **__) -> None:
         """Show lesson ``index`` of the list (its errors, if it has any)."""
         try:
             index = int(index)
@@ -279,14 +296,16 @@ class LessonApp(TrameApp):
         self.options = {"term": "color"}
         self._show_scene(entry.scene, new_lesson=True)
 
-    def reset_lesson(self) -> None:
+    @_guarded
+    def reset_lesson(self, *_, **__) -> None:
         """Go back to the lesson's own scene."""
         if self.entry is not None and self.entry.ok:
             self.options = {"term": "color"}
             self._show_scene(self.entry.scene, new_lesson=True)
             self.notify("info", "Back to the lesson's settings.")
 
-    def apply_experiment(self, index) -> None:
+    @_guarded
+    def apply_experiment(self, index=None, *_, **__) -> None:
         """Apply an experiment's settings to the current scene."""
         lesson = self.entry.lesson if self.entry else None
         try:
@@ -524,7 +543,8 @@ class LessonApp(TrameApp):
         finally:
             self._busy = False
 
-    def on_pick(self, event=None, **_) -> None:
+    @_guarded
+    def on_pick(self, event=None, *_, **__) -> None:
         """A click on the view: move the probe to the first surface point under it."""
         from phonglab.render.mesh import ray_hit
 
@@ -554,7 +574,8 @@ class LessonApp(TrameApp):
             log.exception("pick")
             self.notify("error", f"Could not pick: {type(exc).__name__}: {exc}")
 
-    def on_camera(self, camera=None, **_) -> None:
+    @_guarded
+    def on_camera(self, camera=None, *_, **__) -> None:
         """The browser's camera after the student turned or zoomed the view.
 
         Lighting keeps using the scene's eye; this only makes the server's
@@ -595,7 +616,8 @@ class LessonApp(TrameApp):
             if self.scene is not None and self.scene.interpolation == "pixel":
                 self._refresh_pixels()
 
-    def export_figure(self) -> None:
+    @_guarded
+    def export_figure(self, *_, **__) -> None:
         """Save the current scene as a PNG through :func:`phonglab.render.figure`."""
         from phonglab.render import figure
 
@@ -649,7 +671,7 @@ class LessonApp(TrameApp):
                     self._view_column()
                     self._control_column()
 
-    def _open_from_list(self, index):
+    def _open_from_list(self, index=None, *_, **__):
         self.state.drawer = False
         self.open_lesson(index)
 
