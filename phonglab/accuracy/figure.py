@@ -64,6 +64,8 @@ def _precision(ax, study):
 
 
 def _models(ax, study):
+    from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
+
     alphas = sorted({r["alpha"] for r in study["rows"]})
     shown = ", ".join(f"{a:g}" for a in alphas)
     for setup, fill in (("local viewer, point light", True), ("infinite viewer, directional light", False)):
@@ -82,6 +84,10 @@ def _models(ax, study):
     ax.set_xlabel("time per million points (s)")
     ax.set_ylabel(f"max |specular − phong's|, worst of α = {shown}")
     ax.legend(fontsize=6)
+    # the times span less than a decade: label a few plain ticks, not every minor one
+    ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.xaxis.set_major_formatter(FormatStrFormatter("%.3g"))
 
 
 def _area_time(ax, study):
