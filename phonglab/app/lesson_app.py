@@ -43,7 +43,7 @@ from trame.widgets import vuetify3 as v3
 
 from phonglab import core
 from phonglab.app import controls as ctl
-from phonglab.app import text
+from phonglab.app import sync, text
 from phonglab.app.client import MODULE, ColorPush, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
@@ -202,6 +202,9 @@ class LessonApp(TrameApp):
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
         self.state.change("view_size")(self._on_view_size)
+        # cheaper full synchronisations (after trame-vtk has set up this session)
+        sync.install()
+        self.ctrl.on_server_ready.add(lambda **_: sync.install())
         # one SceneView for the whole session, built from the first good scene
         good = [e for e in self.entries if e.ok]
         if good:

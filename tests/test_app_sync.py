@@ -1,0 +1,77 @@
+"""The remembering polydata serialiser gives trame-vtk's results, faster, and follows every change."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from phonglab.app import sync
+from phonglab.render import SceneView
+from phonglab.render.glyphs import COLOR_ARRAY
+from phonglab.scene import Camera, Geometry, Scene
+
+
+@pytest.fixture(scope="module")
+def view():
+    import phonglab as pl
+
+    scene = Scene(
+        geometry=Geometry(kind="sphere", resolution=32),
+        material=pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40.0),
+        lights=(pl.AmbientLight(intensity=0.2), pl.PointLight(position=(2.0, 2.5, 3.0))),
+        camera=Camera(),
+    )
+    v = SceneView(scene, size=(200, 150), labels=False, vtk_text=False)
+    yield v
+    v.close()
+
+
+def serialize_twice(window, remembering: bool):
+    from trame_vtk.modules.vtk.serializers import SynchronizationContext, initialize_serializers, serialize
+
+    initialize_serializers()  # trame-vtk's own serialisers
+    if remembering:
+        sync.install()
+    context = SynchronizationContext()
+    context.set_ignore_last_dependencies(True)  # whole states, as for a new subscription
+    return context, serialize(None, window, "w", context, 1), serialize(None, window, "w", context, 1)
+
+
+def hashes(state) -> list[str]:
+    from trame_vtk.modules.vtk.serializers import extract_array_hash
+
+    return sorted(entry["hash"] for entry in extract_array_hash(state))
+
+
+def test_results_equal_trame_vtks_own(view):
+    _, plain, _ = serialize_twice(view.render_window, remembering=False)
+    context, first, second = serialize_twice(view.render_window, remembering=True)
+    assert first == plain and second == plain
+    # every array the state names can be fetched from the context
+    for data_hash in hashes(second):
+        assert context.get_cached_data_array(data_hash, binary=True), data_hash
+
+
+def test_a_changed_colour_array_is_serialised_again(view):
+    context, before, _ = serialize_twice(view.render_window, remembering=True)
+    from trame_vtk.modules.vtk.serializers import serialize
+
+    colours = view.mesh.point_data[COLOR_ARRAY]
+    colours[...] = 255 - np.asarray(colours)
+    view.mesh.point_data.GetArray(COLOR_ARRAY).Modified()
+    after = serialize(None, view.render_window, "w", context, 1)
+    changed = set(hashes(after)) - set(hashes(before))
+    assert len(changed) == 1, f"expected only the colour array to change, got {changed}"
+    new_hash = changed.pop()
+    data = np.frombuffer(context.get_cached_data_array(new_hash, binary=True), np.uint8)
+    assert np.array_equal(data, np.asarray(colours).ravel())
+
+
+def test_install_twice_wraps_once():
+    from trame_vtk.modules.vtk.serializers.registry import SERIALIZERS
+
+    sync.install()
+    first = SERIALIZERS["vtkPolyData"]
+    sync.install()
+    assert SERIALIZERS["vtkPolyData"] is first
+    assert not getattr(first.__wrapped__, "_phonglab_remembering", False)
