@@ -12,7 +12,9 @@ The server binds 127.0.0.1 unless told otherwise.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
+import signal
 import uuid
 from typing import Callable
 
@@ -143,7 +145,7 @@ class SessionServer:
     # running
 
     async def run(self, host: str = "127.0.0.1", port: int = 8080, on_ready: Callable | None = None) -> None:
-        """Listen on ``host:port`` until :meth:`stop` (or SIGINT/SIGTERM).
+        """Listen on ``host:port`` until :meth:`stop`, SIGINT or SIGTERM.
 
         Parameters
         ----------
@@ -152,8 +154,13 @@ class SessionServer:
         on_ready : callable, optional
             Called with the bound port once the server accepts connections.
         """
-        self._stopped = asyncio.get_running_loop().create_future()
-        runner = web.AppRunner(self.web_app, handle_signals=True, access_log=None)
+        loop = asyncio.get_running_loop()
+        self._stopped = loop.create_future()
+        # Ctrl-C and SIGTERM end the run normally (aiohttp's own handlers would exit with status 1)
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            with contextlib.suppress(NotImplementedError, RuntimeError):
+                loop.add_signal_handler(signum, self.stop)
+        runner = web.AppRunner(self.web_app, handle_signals=False, access_log=None)
         await runner.setup()
         site = web.TCPSite(runner, host, port)
         await site.start()
