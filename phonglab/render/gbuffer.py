@@ -6,7 +6,9 @@ triangle, into a 32-bit float image (pixels the mesh does not cover hold NaN).
 Six passes give the interpolated world position and normal of the surface
 seen through every pixel; the core then shades each covered pixel with the
 normal renormalised, which is Phong *shading* (as opposed to Gouraud's
-interpolated colours).
+interpolated colours). The interpolated normals are kept as they came too
+(``raw_normals``, shorter than 1 inside a triangle), for the lesson that shows
+what forgetting the renormalisation does.
 """
 
 from __future__ import annotations
@@ -33,14 +35,20 @@ class GBuffer:
     positions : ndarray, shape (height, width, 3), float32
         World position of the visible surface (NaN where uncovered).
     normals : ndarray, shape (height, width, 3), float32
-        Unit normal, interpolated from the point normals (NaN where uncovered).
+        Unit normal, interpolated from the point normals and renormalised
+        (NaN where uncovered).
     mask : ndarray, shape (height, width), bool
         True where the mesh covers the pixel.
+    raw_normals : ndarray, shape (height, width, 3), float32, or None
+        The interpolated normal *before* renormalising: a blend of unit
+        vectors, shorter than 1 inside a triangle whose vertex normals differ
+        (NaN where uncovered). Only a deliberately wrong shading uses it.
     """
 
     positions: np.ndarray
     normals: np.ndarray
     mask: np.ndarray
+    raw_normals: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -122,10 +130,12 @@ class GBufferRenderer:
         if not good.all():
             mask[mask] = good
             covered, length = covered[good], length[good]
-        # renormalise the interpolated normals (Phong shading's key step)
+        # keep the interpolated normals as they came, then renormalise (Phong shading's key step)
+        raw_normals = np.full_like(normals, np.nan)
+        raw_normals[mask] = covered
         normals[...] = np.nan
         normals[mask] = covered / length[:, None]
-        return GBuffer(positions=positions, normals=normals, mask=mask)
+        return GBuffer(positions=positions, normals=normals, mask=mask, raw_normals=raw_normals)
 
     def close(self) -> None:
         """Release the OpenGL context."""

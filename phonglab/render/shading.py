@@ -9,6 +9,14 @@
 
 Colours leave the core unclamped; they are clipped to [0, 1] and scaled to
 8-bit RGB only here, at the last step before VTK.
+
+Every function takes ``mistake=``: None (the default) shades correctly with
+:func:`phonglab.scene.shade`; a name from :data:`phonglab.teaching.MISTAKES`
+shades with that deliberately wrong variant instead (a lesson's "common
+mistake"), through :func:`phonglab.teaching.shade_scene`. A mistake that
+needs the interpolated, not renormalised, normals gets them in pixel mode
+(:attr:`GBuffer.raw_normals`); per vertex and per face the normals are unit
+vectors, so that mistake cannot show there (:func:`mistake_note` says so).
 """
 
 from __future__ import annotations
@@ -22,15 +30,69 @@ from phonglab.render.mesh import face_centroids_normals
 TERMS = ("color", "ambient", "diffuse", "specular")
 
 
-def shade(scene, points, normals):
+def shade(scene, points, normals, mistake: str | None = None):
     """The core's shading of ``points`` with ``normals`` under ``scene``.
 
     A thin wrapper over :func:`phonglab.scene.shade` (which passes the
     scene's material, lights, eye, model, two-sidedness and plan to the core).
-    """
-    from phonglab import scene as scene_module
 
-    return scene_module.shade(scene, points, normals)
+    Parameters
+    ----------
+    scene : phonglab.scene.Scene
+    points, normals : array_like, shape (..., 3)
+    mistake : str or None
+        None shades correctly. A name from :data:`phonglab.teaching.MISTAKES`
+        shades with that deliberately wrong variant
+        (:func:`phonglab.teaching.shade_scene`).
+
+    Raises
+    ------
+    ValueError
+        For an unknown mistake name (the message lists the names allowed).
+    """
+    if mistake is None:
+        from phonglab import scene as scene_module
+
+        return scene_module.shade(scene, points, normals)
+    # the wrong variants live in the teaching package, imported only when one is asked for
+    from phonglab.teaching import shade_scene
+
+    return shade_scene(scene, points, normals, mistake)
+
+
+def get_mistake(name: str):
+    """The :class:`phonglab.teaching.Mistake` called ``name`` (ValueError listing the names otherwise)."""
+    from phonglab.teaching import get_mistake as lookup
+
+    return lookup(name)
+
+
+def mistake_names() -> tuple[str, ...]:
+    """The names a ``mistake=`` option accepts."""
+    from phonglab.teaching import MISTAKES
+
+    return tuple(MISTAKES)
+
+
+def mistake_shows(mistake: str | None, interpolation: str) -> bool:
+    """Whether ``mistake`` can change the picture in this interpolation mode.
+
+    A mistake that needs the interpolated, not renormalised, normals shows
+    only per pixel: per vertex and per face the normals are unit vectors.
+    Every other mistake shows in all three modes (where its bug bites).
+    """
+    if mistake is None:
+        return False
+    return interpolation == "pixel" or not get_mistake(mistake).needs_raw_normals
+
+
+def mistake_note(mistake: str | None, interpolation: str) -> str:
+    """A sentence for a caption when ``mistake`` cannot show in this mode, else ``""``."""
+    if mistake is None or mistake_shows(mistake, interpolation):
+        return ""
+    mode = {"flat": "flat (per face)", "gouraud": "Gouraud (per vertex)"}.get(interpolation, interpolation)
+    return (f"This mistake shows only with per-pixel shading: with {mode} shading every normal is a unit "
+            "vector, so this picture is the correct one (set interpolation = \"pixel\" to see it).")
 
 
 def term_of(shading, term: str) -> np.ndarray:
@@ -51,20 +113,21 @@ def to_rgb8(values) -> np.ndarray:
     return np.rint(scaled).astype(np.uint8)
 
 
-def vertex_colors(scene, mesh, terms=("color",)) -> dict[str, np.ndarray]:
-    """Gouraud: uint8 RGB per mesh point, for each requested term."""
-    shading = shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"]))
+def vertex_colors(scene, mesh, terms=("color",), mistake: str | None = None) -> dict[str, np.ndarray]:
+    """Gouraud: uint8 RGB per mesh point, for each requested term (with ``mistake``, if given)."""
+    shading = shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"]), mistake)
     return {t: to_rgb8(term_of(shading, t)) for t in terms}
 
 
-def face_colors(scene, mesh, terms=("color",)) -> dict[str, np.ndarray]:
-    """Flat: uint8 RGB per triangle, shaded at its centroid with its face normal."""
+def face_colors(scene, mesh, terms=("color",), mistake: str | None = None) -> dict[str, np.ndarray]:
+    """Flat: uint8 RGB per triangle, shaded at its centroid with its face normal (with ``mistake``, if given)."""
     centroids, normals = face_centroids_normals(mesh)
-    shading = shade(scene, centroids, normals)
+    shading = shade(scene, centroids, normals, mistake)
     return {t: to_rgb8(term_of(shading, t)) for t in terms}
 
 
-def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",)) -> dict[str, np.ndarray]:
+def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
+                 mistake: str | None = None) -> dict[str, np.ndarray]:
     """Per pixel: a (height, width, 3) uint8 image per term, background where uncovered.
 
     Parameters
@@ -74,9 +137,20 @@ def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",)) -> dict[
     background : sequence of 3 floats in [0, 1]
         Colour of the pixels the mesh does not cover.
     terms : sequence of str
+    mistake : str or None
+        A deliberately wrong shading to use (see :func:`shade`). A mistake
+        with ``needs_raw_normals`` is given the interpolated normals as they
+        came (:attr:`GBuffer.raw_normals`), so its bug shows.
     """
     mask = gbuffer.mask
-    shading = shade(scene, gbuffer.positions[mask], gbuffer.normals[mask])
+    normals = gbuffer.normals
+    if mistake is not None and get_mistake(mistake).needs_raw_normals:
+        # the bug: the interpolated normals, not renormalised
+        if gbuffer.raw_normals is None:
+            raise ValueError(f"gbuffer: the mistake {mistake!r} needs the raw interpolated normals, "
+                             "and this G-buffer has none")
+        normals = gbuffer.raw_normals
+    shading = shade(scene, gbuffer.positions[mask], normals[mask], mistake)
     back = to_rgb8(background)
     out = {}
     for t in terms:

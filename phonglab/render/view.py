@@ -17,6 +17,11 @@ array, so the geometry and colours are all a browser needs (trame-vtk's
 local view). :meth:`SceneView.update` changes arrays in place: moving a slider
 never adds an actor.
 
+A lesson's common mistake (:data:`phonglab.teaching.MISTAKES`) can be shown
+on the mesh: :meth:`SceneView.set_mistake` recolours it in place with the
+deliberately wrong shading, and :meth:`SceneView.pixel_image` uses it too;
+``set_mistake(None)`` brings back the correct colours.
+
 Framing: the camera stays at the scene's eye and looks where the scene says;
 when arrows are shown and a tip (with the letter beyond it) would leave the
 window, the view angle is widened just enough to hold it. Nothing else
@@ -102,6 +107,10 @@ class SceneView:
         Which light the vectors L, R, H refer to; None picks the first light
         that is not ambient.
     background : 3 floats in [0, 1]
+    mistake : str or None
+        Shade with this deliberately wrong variant (a name from
+        :data:`phonglab.teaching.MISTAKES`) instead of the correct model;
+        see :meth:`set_mistake`.
 
     Attributes
     ----------
@@ -109,6 +118,8 @@ class SceneView:
     renderer : vtkRenderer
     scene : Scene
         The scene shown now.
+    mistake : str or None
+        The common mistake the colours show, or None for the correct shading.
     arrow_length : float
         Length of the arrows in world units (half the mesh's bounding radius).
     """
@@ -126,11 +137,15 @@ class SceneView:
         term: str = "color",
         light_index: int | None = None,
         background=BACKGROUND,
+        mistake: str | None = None,
     ):
         if term not in shading.TERMS:
             raise ValueError(f"term must be one of {', '.join(shading.TERMS)}, got {term!r}")
+        if mistake is not None:
+            shading.get_mistake(mistake)  # raises ValueError listing the names allowed
         self.scene = scene
         self.term = term
+        self.mistake = mistake
         self.background = tuple(float(c) for c in background)
         self.show_labels = bool(labels)
         self.show_markers = bool(markers)
@@ -314,6 +329,45 @@ class SceneView:
             self.term = term
             self._recolor()
 
+    def set_mistake(self, mistake: str | None) -> None:
+        """Show a common mistake on the mesh, or the correct shading again (None).
+
+        The mesh's colour array is overwritten in place (no actor is added),
+        as :meth:`update` does; :meth:`pixel_image` and :meth:`screenshot`
+        use the mistake too. The vectors at the probe stay the correct ones.
+
+        Parameters
+        ----------
+        mistake : str or None
+            A name from :data:`phonglab.teaching.MISTAKES`, or None.
+
+        Raises
+        ------
+        ValueError
+            For an unknown name; the message lists the names allowed and
+            the view is left as it was.
+        """
+        if mistake is not None:
+            shading.get_mistake(mistake)  # raises ValueError listing the names allowed
+        if mistake != self.mistake:
+            self.mistake = mistake
+            self._recolor()
+
+    @property
+    def mistake_shows(self) -> bool:
+        """True when the mistake set can change the picture in the scene's interpolation mode.
+
+        False without a mistake, and for a mistake that needs the raw
+        interpolated normals (``needs_raw_normals``) outside pixel mode, where
+        every normal is a unit vector and the picture is the correct one.
+        """
+        return shading.mistake_shows(self.mistake, self.scene.interpolation)
+
+    @property
+    def mistake_note(self) -> str:
+        """A sentence to show when the mistake set cannot show in this mode, else ``""``."""
+        return shading.mistake_note(self.mistake, self.scene.interpolation)
+
     def set_vectors(self, vectors) -> None:
         """Choose which of N, L, R, V, H are drawn (``"NLRVH"``, ``"N,L"``, None)."""
         self._letters = glyphs.parse_vectors(vectors)
@@ -332,12 +386,12 @@ class SceneView:
         """Recompute the mesh colours with the core and write them into the arrays."""
         mesh, scene = self.mesh, self.scene
         if scene.interpolation == "flat":
-            rgb = shading.face_colors(scene, mesh, (self.term,))[self.term]
+            rgb = shading.face_colors(scene, mesh, (self.term,), self.mistake)[self.term]
             _array_to_vtk_in_place(mesh.cell_data, glyphs.COLOR_ARRAY, rgb)
             self._mapper.SetScalarModeToUseCellData()
         else:
             # gouraud, and the interactive preview of pixel mode
-            rgb = shading.vertex_colors(scene, mesh, (self.term,))[self.term]
+            rgb = shading.vertex_colors(scene, mesh, (self.term,), self.mistake)[self.term]
             _array_to_vtk_in_place(mesh.point_data, glyphs.COLOR_ARRAY, rgb)
             self._mapper.SetScalarModeToUsePointData()
         self._mapper.Modified()
@@ -582,6 +636,10 @@ class SceneView:
     def pixel_image(self, term: str | None = None) -> np.ndarray:
         """The mesh shaded per pixel by the core, on the background (no glyphs).
 
+        With a mistake set (:meth:`set_mistake`) the pixels are shaded with
+        it; a mistake with ``needs_raw_normals`` gets the interpolated normals
+        as they came, not renormalised, so its bug shows here.
+
         Parameters
         ----------
         term : str, optional
@@ -593,7 +651,7 @@ class SceneView:
             For the current VTK camera and window size, top row first.
         """
         term = term or self.term
-        return shading.pixel_colors(self.scene, self._gbuffer(), self.background, (term,))[term]
+        return shading.pixel_colors(self.scene, self._gbuffer(), self.background, (term,), self.mistake)[term]
 
     def annotate(self, image: np.ndarray, *, legend: bool = True) -> np.ndarray:
         """Draw the letters at the arrow tips (and the legend) on a rendered image.
