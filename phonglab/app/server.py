@@ -47,6 +47,7 @@ class SessionServer:
         self._on_session = on_session
         self._stopped = None
         self.sessions: dict[str, object] = {}
+        self._sockets: set = set()
         self.web_app = web.Application()
         self.web_app.router.add_get("/", self._index)
         self.web_app.router.add_post("/paraview/", self._launcher)
@@ -79,6 +80,7 @@ class SessionServer:
         name = "s" + uuid.uuid4().hex
         socket = web.WebSocketResponse(max_msg_size=MAX_MESSAGE_BYTES, heartbeat=HEARTBEAT_SECONDS)
         await socket.prepare(request)
+        self._sockets.add(socket)
         app = task = connection = None
         try:
             # build this tab's app and start its trame server without a network
@@ -114,6 +116,7 @@ class SessionServer:
         except Exception:  # a broken session must not take the server down
             log.exception("session %s failed", name)
         finally:
+            self._sockets.discard(socket)
             await self._close_session(name, app, task, connection)
         return socket
 
@@ -170,6 +173,10 @@ class SessionServer:
         try:
             await self._stopped
         finally:
+            # close the open tabs' sockets so their sessions end, then the server
+            for socket in list(self._sockets):
+                with contextlib.suppress(Exception):
+                    await socket.close(code=aiohttp.WSCloseCode.GOING_AWAY, message=b"server stopping")
             await runner.cleanup()
 
     def stop(self) -> None:
