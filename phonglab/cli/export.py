@@ -7,6 +7,8 @@ Examples::
         --sweep material.ks=0.1,0.5,0.9 --sweep material.shininess=4,32,256
     phonglab export assets/scenes/sphere.toml -o terms.png --terms --set interpolation=pixel
     phonglab export assets/scenes/sphere.toml -o lobe.pdf --plot lobe
+    phonglab export lessons/03-diffuse.md -o mistake.png --mistake lesson --compare
+    phonglab export assets/scenes/sphere.toml -o wrong.png --mistake zero-shininess --terms
 
 Exit status: 0 written, 2 bad input (a one-line error naming the problem;
 nothing is written).
@@ -48,7 +50,21 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "Lambert's cosine or the plane of incidence at the probe")
     parser.add_argument("--supersample", type=int, default=2, metavar="N",
                         help="antialiasing: render N times larger and average down (default 2)")
+    parser.add_argument(
+        "--mistake", default=None, metavar="NAME",
+        help="show a common mistake: shade with a deliberately wrong variant (" + _mistake_names()
+        + "), or 'lesson' for the lesson's own; the figure is labelled as wrong",
+    )
+    parser.add_argument("--compare", action="store_true",
+                        help="with --mistake: the correct picture and the mistaken one side by side")
     return parser
+
+
+def _mistake_names() -> str:
+    """The mistake names for the help text (the teaching package is NumPy-only)."""
+    from phonglab.teaching import MISTAKES
+
+    return ", ".join(MISTAKES)
 
 
 def run(args) -> int:
@@ -59,6 +75,8 @@ def run(args) -> int:
         size = parse_size(args.size)
         if not 1 <= args.supersample <= 4:
             raise FigureError(f"supersample: must be from 1 to 4, got {args.supersample}")
+        if args.compare and args.mistake is None:
+            raise FigureError("--compare: needs --mistake NAME (or --mistake lesson) to compare with")
         path = figure(
             args.scene,
             args.output,
@@ -68,8 +86,10 @@ def run(args) -> int:
             terms=args.terms,
             sweep=args.sweep or None,
             plot=args.plot,
-            progress=stderr_progress if (args.sweep or args.terms) else None,
+            progress=stderr_progress if (args.sweep or args.terms or args.compare) else None,
             supersample=args.supersample,
+            mistake=args.mistake,
+            compare=args.compare,
         )
     except (SceneError, FigureError) as exc:
         raise UsageError(_one_line(exc)) from None
