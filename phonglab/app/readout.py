@@ -103,20 +103,23 @@ def probe_readout(scene, point, normal, vectors, light_index) -> dict:
     ia = [sum(a.ambient_rgb[i] for a in ambients) for i in range(3)]
     cosine, cos_tex = (vectors.nh, r"n\cdot h") if blinn else (vectors.rv, r"r\cdot v")
     alpha = material.shininess
-    symbolic = (rf"I = k_a I_a + f\left[k_d I_d \max(0, n\cdot l) + k_s I_s \max(0, {cos_tex})^{{\alpha}}\right]")
-    substituted = (
-        rf"= {_rgb_tex(material.ka)} \cdot {_rgb_tex(ia)} + {_num(f, 3)}\left[{_rgb_tex(material.kd)} \cdot "
-        rf"{_rgb_tex(light.diffuse_rgb)} \cdot {_num(max(0.0, vectors.nl), 3)} + {_rgb_tex(material.ks)} \cdot "
-        rf"{_rgb_tex(light.specular_rgb)} \cdot {_num(max(0.0, cosine), 3)}^{{{_alpha(alpha)}}}\right]"
-    )
-    result = (
-        rf"= {_rgb_tex(part.ambient[0], 3)} + {_rgb_tex(part.diffuse[0], 3)} + {_rgb_tex(part.specular[0], 3)}"
-    )
+    ka, kd, ks = (_rgb_tex(c) for c in (material.ka, material.kd, material.ks))
+    f_tex, nl_tex = _num(f, 3), _num(max(0.0, vectors.nl), 3)
+    # one row per term: the symbols, the numbers, the core's value
+    rows = [
+        ("model", rf"I = k_a I_a + f\left[k_d I_d \max(0, n\cdot l) + k_s I_s \max(0, {cos_tex})^{{\alpha}}\right]"),
+        ("ambient", rf"k_a I_a = {ka} \cdot {_rgb_tex(ia)} = {_rgb_tex(part.ambient[0], 3)}"),
+        ("diffuse", rf"f\, k_d I_d \max(0, n\cdot l) = {f_tex} \cdot {kd} \cdot {_rgb_tex(light.diffuse_rgb)} "
+                    rf"\cdot {nl_tex} = {_rgb_tex(part.diffuse[0], 3)}"),
+        ("specular", rf"f\, k_s I_s \max(0, {cos_tex})^{{\alpha}} = {f_tex} \cdot {ks} \cdot "
+                     rf"{_rgb_tex(light.specular_rgb)} \cdot {_num(max(0.0, cosine), 3)}^{{{_alpha(alpha)}}} "
+                     rf"= {_rgb_tex(part.specular[0], 3)}"),
+    ]
     if any(part.emission[0]):
-        result += rf" + {_rgb_tex(part.emission[0], 3)}"
-    result += rf" = {_rgb_tex(part.color[0], 3)}"
+        rows.append(("emission", rf"k_e = {_rgb_tex(part.emission[0], 3)}"))
+    rows.append(("sum", rf"I = {_rgb_tex(part.color[0], 3)}"))
     out["equation"] = "".join(
-        f'<div class="eq-line">{mathml(line, display=True)}</div>' for line in (symbolic, substituted, result)
+        f'<div class="eq-row"><span class="eq-label">{label}</span>{mathml(tex)}</div>' for label, tex in rows
     )
     if vectors.nl <= 0:
         out["notes"].append("n·l ≤ 0: the light is behind the surface here, so diffuse and specular are 0.")

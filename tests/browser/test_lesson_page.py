@@ -58,7 +58,7 @@ def test_lesson_loads_with_typeset_maths_and_a_picture(app_page):
     assert "Costs $0." in body, body
     # the view drew something, and the readout and planner are there
     assert app_page.pixel_hash() != 0
-    assert page.locator(".phonglab-equation math").count() == 3
+    assert page.locator(".phonglab-equation .eq-row math").count() == 5
     assert page.locator(".phonglab-plan-row").count() >= 3
 
 
