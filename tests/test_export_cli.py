@@ -95,6 +95,13 @@ BAD = [
     ([], "x.jpg", ["x.jpg", ".jpg", ".png"]),
     ([], "noext", ["noext", "no extension"]),
     (["--supersample", "9"], "x.png", ["supersample", "9"]),
+    (["--mistake", "no-clamp"], "x.png",
+     ["no-clamp", "no-clamp-diffuse", "ungated-specular", "unnormalised-normals", "zero-shininess", "lesson"]),
+    (["--mistake", "lesson"], "x.png", ["lesson", "scene", "no-clamp-diffuse"]),
+    (["--compare"], "x.png", ["--compare", "--mistake"]),
+    (["--mistake", "zero-shininess", "--plot", "lobe"], "x.png", ["mistake", "plot"]),
+    (["--mistake", "zero-shininess", "--compare", "--terms"], "x.png", ["compare", "terms"]),
+    (["--mistake", "zero-shininess", "--compare", "--sweep", "material.ks=0,1"], "x.png", ["compare", "sweeps"]),
 ]
 
 
@@ -192,3 +199,92 @@ def test_the_installed_command_runs(scene_file, out_dir):
     assert result.returncode == 0, result.stderr
     assert out.stat().st_size > 1000
     assert "WARN" not in result.stderr, f"VTK noise on stderr: {result.stderr!r}"
+
+
+LESSON = """\
++++
+title = "CLI lesson"
+goal = "see the mistake"
+mistake = "no-clamp-diffuse"
+probe = [-0.5, 0.4, 0.7]
+[geometry]
+kind = "sphere"
+resolution = 16
+[material]
+ka = 0.3
+kd = 0.8
+ks = 0
+shininess = 10
+[[lights]]
+type = "ambient"
+intensity = 0.4
+[[lights]]
+type = "point"
+position = [-3, 1, 1]
+[camera]
+eye = [0, 0, 5]
++++
+# CLI lesson
+
+Text.
+"""
+
+
+@pytest.fixture
+def lesson_file(tmp_path) -> Path:
+    path = tmp_path / "05-cli.md"
+    path.write_text(LESSON)
+    return path
+
+
+def test_mistake_lesson_compare_writes_the_side_by_side_figure(lesson_file, out_dir, capsys, monkeypatch):
+    from phonglab.render import figures
+
+    texts, placed = [], []
+    save, place = figures.save_figure, figures._place
+    monkeypatch.setattr(figures, "save_figure", lambda fig, path, ext: (
+        texts.extend(t.get_text() for t in fig.texts), save(fig, path, ext)))
+    monkeypatch.setattr(figures, "_place", lambda fig, image, box, size: (
+        placed.append(image.copy()), place(fig, image, box, size)))
+    out = out_dir / "compare.png"
+    code = export(lesson_file, "-o", out, "--mistake", "lesson", "--compare", "--size", "320x180",
+                  "--supersample", "1")
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert captured.out.strip() == str(out) and "2/2" in captured.err, captured
+    from PIL import Image
+
+    with Image.open(out) as img:
+        assert img.size == (320, 180)
+    assert sorted(p.name for p in out_dir.iterdir()) == ["compare.png"]
+    # the lesson's own mistake, labelled, and the two pictures differ (the dark side goes black)
+    assert "correct" in texts and any(t.startswith("common mistake: Diffuse without max(0, ·)") for t in texts), texts
+    assert len(placed) == 2 and (placed[0].astype(int) - placed[1].astype(int)).sum() > 0, \
+        "the mistaken picture is not darker than the correct one"
+
+
+def test_mistake_with_terms_shows_the_wrong_terms(scene_file, out_dir, capsys, monkeypatch):
+    from phonglab.render import figures
+
+    texts = []
+    save = figures.save_figure
+    monkeypatch.setattr(figures, "save_figure", lambda fig, path, ext: (
+        texts.extend(t.get_text() for t in fig.texts), save(fig, path, ext)))
+    out = out_dir / "terms.png"
+    code = export(scene_file, "-o", out, "--mistake", "ungated-specular", "--terms", "--size", "400x200",
+                  "--supersample", "1")
+    assert code == 0, capsys.readouterr().err
+    assert out.exists()
+    wrong = [t.split()[0] for t in texts if "(wrong)" in t]
+    assert wrong == ["specular", "sum"], texts
+    assert any("Common mistake: Specular without the n·l gate" in t for t in texts), texts
+
+
+def test_mistake_lesson_without_a_mistake_key(lesson_file, out_dir, capsys):
+    lesson_file.write_text(LESSON.replace('mistake = "no-clamp-diffuse"\n', ""))
+    code = export(lesson_file, "-o", out_dir / "x.png", "--mistake", "lesson")
+    err = capsys.readouterr().err
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "no mistake key" in lines[0] and "zero-shininess" in lines[0], err
+    assert list(out_dir.iterdir()) == []
