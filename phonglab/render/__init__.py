@@ -8,6 +8,11 @@ reaches VTK as uint8 RGB scalars on actors with lighting off.
 * :class:`SceneView` — a render window with the shaded mesh, the vectors
   N, L, R, V, H at the probe and markers for the lights and the eye.
 * :func:`figure` — PNG/SVG/PDF figures: renders, per-term views, sweeps, plots.
+
+Both can show a lesson's common mistake (``mistake=``, a name from
+:data:`phonglab.teaching.MISTAKES`): the same render code, shaded with the
+deliberately wrong variant (:meth:`SceneView.set_mistake`; ``figure(...,
+mistake=..., compare=True)`` for the correct and the wrong picture side by side).
 """
 
 from phonglab.render.figures import FigureError, figure, render
