@@ -222,7 +222,15 @@ class Light:
 
 @dataclass(frozen=True)
 class AmbientLight(Light):
-    """Light arriving equally from everywhere: contributes ``k_a ∘ I_a``."""
+    """Light arriving equally from everywhere, standing in for indirect light.
+
+    Notes
+    -----
+    .. math:: I_{ambient} = k_a \\circ I_a, \\qquad I_a = \\sum \\mathrm{intensity} \\cdot \\mathrm{color}
+
+    summed over the scene's ambient lights; the same at every point, with no
+    direction (so it has no ``L`` and no specular part).
+    """
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -250,7 +258,15 @@ class PointLight(Light):
 
 @dataclass(frozen=True, kw_only=True)
 class DirectionalLight(Light):
-    """A light infinitely far away; ``direction`` points *towards* the light."""
+    """A light infinitely far away; ``direction`` points *towards* the light.
+
+    Notes
+    -----
+    .. math:: l = \\frac{d}{|d|} \\text{ at every point}, \\qquad f = 1
+
+    No attenuation: there is no distance. The homogeneous position
+    ``(x, y, z, 0)`` describes the same light.
+    """
 
     direction: Vec3
 
@@ -313,6 +329,14 @@ def light_from_homogeneous(position, **kwargs) -> PointLight | DirectionalLight:
     ``w = 1`` gives a :class:`PointLight` at ``(x, y, z)``; ``w = 0`` a
     :class:`DirectionalLight` towards ``(x, y, z)``. Any other ``w > 0`` is a
     point light at ``(x, y, z) / w``. Further keyword arguments go to the light.
+
+    Notes
+    -----
+    .. math:: (x, y, z, w) \\mapsto \\begin{cases} p = (x, y, z) / w & w > 0 \\\\
+              l = (x, y, z) / |(x, y, z)| & w = 0 \\end{cases}
+
+    the point at infinity in direction ``(x, y, z)`` is the limit of point
+    lights moved ever further that way.
 
     Examples
     --------

@@ -227,6 +227,12 @@ def normalize(v, *, return_length=False):
 def dot(a, b):
     """``a·b`` over the last axis of two ``(..., 3)`` arrays.
 
+    Notes
+    -----
+    .. math:: a \\cdot b = a_x b_x + a_y b_y + a_z b_z
+
+    For unit vectors this is the cosine of the angle between them.
+
     Examples
     --------
     >>> float(dot([1.0, 2.0, 3.0], [4.0, 5.0, 6.0]))
