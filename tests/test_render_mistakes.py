@@ -153,7 +153,8 @@ def test_pixel_mistake_through_figure_differs_where_the_bug_bites(monkeypatch, t
         peak = rv > 0.99
         assert peak.sum() > 20 and np.all(darker[peak] < -100), \
             f"{info}: at r·v > 0.99 the wrong picture brightens by {-darker[peak].min()} levels at least"
-        assert rv[np.argmax(b.sum(axis=-1))] > 0.95, f"{info}: the brightest wrong pixel is at r·v = {rv[np.argmax(b.sum(-1))]:.3f}"
+        brightest = rv[np.argmax(b.sum(axis=-1))]
+        assert brightest > 0.95, f"{info}: the brightest wrong pixel is at r·v = {brightest:.3f}"
     elif mistake == "unnormalised-normals":
         # the sharp highlight is lost ...
         peak = rv > 0.99
@@ -165,7 +166,8 @@ def test_pixel_mistake_through_figure_differs_where_the_bug_bites(monkeypatch, t
         short, long_ = np.quantile(raw[diffuse], [1 / 3, 2 / 3])
         in_faces, near_edges = darker[diffuse & (raw <= short)].mean(), darker[diffuse & (raw >= long_)].mean()
         assert in_faces > 3 and in_faces > 1.5 * near_edges, (
-            f"{info}: darkening {in_faces:.2f} levels where |n| <= {short:.4f}, {near_edges:.2f} where |n| >= {long_:.4f}"
+            f"{info}: darkening {in_faces:.2f} levels where |n| <= {short:.4f}, "
+            f"{near_edges:.2f} where |n| >= {long_:.4f}"
         )
         assert raw.min() < 0.95, f"{info}: the pixel mode shading got renormalised normals (min |n| {raw.min():.4f})"
     else:  # zero-shininess
@@ -313,7 +315,8 @@ def test_lesson_mistake_is_looked_up(tmp_path):
     lesson = tmp_path / "05-test.md"
     front = ('+++\ntitle = "Test lesson"\ngoal = "see"\nmistake = "zero-shininess"\n[geometry]\nkind = "sphere"\n'
              'resolution = 12\n[material]\nka = 0.1\nkd = 0.5\nks = 0.5\nshininess = 20\n'
-             '[[lights]]\ntype = "point"\nposition = [2, 2, 3]\n[camera]\neye = [0, 0, 4]\n+++\n# Test lesson\n\nText.\n')
+             '[[lights]]\ntype = "point"\nposition = [2, 2, 3]\n[camera]\neye = [0, 0, 4]\n'
+             '+++\n# Test lesson\n\nText.\n')
     lesson.write_text(front)
     from phonglab.scene import load
 
@@ -374,7 +377,8 @@ def test_set_mistake_recolours_in_place_and_back_exactly(mode, data):
         same_array = fields.GetArray(glyphs.COLOR_ARRAY).GetAddressAsString("vtkDataArray") == address
         assert same_array, f"{mode}: the colour array was replaced, not overwritten"
         assert array.GetMTime() > stamp, f"{mode}: the colour array was not marked modified"
-        assert changed(before, after).mean() > 0.1, f"{mode}: only {changed(before, after).mean():.2%} of colours changed"
+        fraction = changed(before, after).mean()
+        assert fraction > 0.1, f"{mode}: only {fraction:.2%} of colours changed"
         assert actor_count(view) == props, f"{mode}: {actor_count(view)} props after set_mistake, {props} before"
         assert view.mistake == "no-clamp-diffuse" and view.mistake_shows and view.mistake_note == ""
 
