@@ -316,10 +316,8 @@ class LessonApp(TrameApp):
         except (AttributeError, TypeError, ValueError, IndexError):
             self.notify("error", f"no such experiment: {index!r}")
             return
-        scene = self.scene
         try:
-            for path, value in experiment.settings:
-                scene = scene.replace(path, value)
+            scene = self.scene.replace_many(experiment.settings)
         except SceneError as exc:
             self.notify("error", f"experiment {experiment.label!r} could not be applied: {exc}")
             return

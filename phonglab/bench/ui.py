@@ -189,19 +189,21 @@ def wait_until_serving(process: subprocess.Popen, port: int, *, log_path=None, t
 
 
 def stop_server(process: subprocess.Popen, *, timeout: float = 10.0) -> None:
-    """Stop a server started by :func:`start_server`: its whole process group, by PID."""
-    if process.poll() is None:
+    """Stop a server started by :func:`start_server`: its whole process group, by PID.
+
+    SIGINT first (what Ctrl-C sends; trame's own server stops on it), then
+    SIGTERM, then SIGKILL, each after ``timeout`` seconds without an exit.
+    """
+    for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
+        if process.poll() is not None:
+            break
         with contextlib.suppress(ProcessLookupError):
-            os.killpg(process.pid, signal.SIGTERM)
-        try:
+            os.killpg(process.pid, signum)
+        with contextlib.suppress(subprocess.TimeoutExpired):
             process.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            with contextlib.suppress(ProcessLookupError):
-                os.killpg(process.pid, signal.SIGKILL)
-            process.wait(timeout=timeout)
-    else:  # the leader is gone; make sure nothing it started lingers
-        with contextlib.suppress(ProcessLookupError, PermissionError):
-            os.killpg(process.pid, signal.SIGKILL)
+    # the leader is gone; make sure nothing it started lingers in its group
+    with contextlib.suppress(ProcessLookupError, PermissionError):
+        os.killpg(process.pid, signal.SIGKILL)
 
 
 def log_tail(log_path, lines: int = 30) -> str:
