@@ -211,3 +211,36 @@ def test_export_writes_a_png_through_the_figure_code(app):
     assert app.state.notice["kind"] == "success", app.state.notice
     files = list(app.export_dir.glob("lesson-01-*.png"))
     assert len(files) == 1 and files[0].read_bytes()[:4] == b"\x89PNG"
+
+
+MISTAKE_LESSON = GOOD.replace('probe = [0.3, 0.4, 0.866]', 'probe = [0.3, 0.4, 0.866]\nmistake = "unnormalised-normals"')
+
+
+@pytest.fixture
+def mistake_app(tmp_path):
+    from trame.app import get_server
+
+    (tmp_path / "01-raw.md").write_text(MISTAKE_LESSON, encoding="utf-8")
+    server = get_server(f"test-mistake-{tmp_path.name}", client_type="vue3")
+    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
+    yield application
+    application.close()
+
+
+def test_the_mistake_switch_goes_through_the_view_and_says_when_it_cannot_show(mistake_app):
+    app = mistake_app
+    assert app.state.mistake["available"] and "view__mistake" in app._controls
+    before = np.array(app.view.mesh.point_data[COLOR_ARRAY])
+    app._on_control("view__mistake", True)
+    # per vertex the normals are unit vectors: same colours, and the page says why
+    assert app.view.mistake == "unnormalised-normals"
+    assert np.array_equal(np.asarray(app.view.mesh.point_data[COLOR_ARRAY]), before)
+    assert "per-pixel" in app.state.mistake_note, app.state.mistake_note
+    # per pixel the mistake shows in the picture, and the note goes away
+    app._on_control("interpolation", "pixel")
+    wrong = app.state.pixel_src
+    assert app.state.mistake_note == "" and wrong.startswith("data:image/png")
+    app._on_control("view__mistake", False)
+    assert app.view.mistake is None and app.state.pixel_src != wrong, "switching the mistake off kept the picture"
+    app._on_control("view__mistake", True)
+    assert app.state.pixel_src == wrong, "the same mistake twice gave two pictures"

@@ -197,7 +197,6 @@ class LessonApp(TrameApp):
         self._panels_handle = None
         self._rebuild_pending = False
         self._view_ms = 0.0
-        self._mistake_painted = False
         self._camera_moved = False
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
@@ -248,6 +247,7 @@ class LessonApp(TrameApp):
         s.has_view = False
         s.pick_target = "probe"
         s.mistake = None
+        s.mistake_note = ""
 
     def notify(self, kind: str, message: str) -> None:
         """Show a message above the controls (kind: "error", "success", "info")."""
@@ -281,6 +281,7 @@ class LessonApp(TrameApp):
             s.lesson_goal_html = ""
             s.experiments = []
             s.question_html = s.answer_html = ""
+            s.mistake, s.mistake_note = None, ""
             s.has_view = self.view is not None
             self._controls = {}
             self._build_controls([])
@@ -382,31 +383,16 @@ class LessonApp(TrameApp):
             record("view", spent + (time.perf_counter() - start) * 1000.0)
 
     def _paint_mistake(self) -> None:
-        """Show the lesson's common mistake on the mesh (or put the correct colours back)."""
-        from phonglab.render import shading
-        from phonglab.render.glyphs import COLOR_ARRAY
-        from phonglab.render.mesh import face_centroids_normals
+        """Show the lesson's common mistake in the view when the switch is on, else the correct shading.
 
-        name = self.entry.lesson.mistake if self.entry and self.entry.lesson else None
-        wanted = bool(name and self.options.get("mistake")) and self.scene.interpolation != "pixel"
-        if not wanted and not self._mistake_painted:
-            return
-        mesh, term = self.view.mesh, self.options["term"]
-        if self.scene.interpolation == "flat":
-            points, normals = face_centroids_normals(mesh)
-            fields = mesh.cell_data
-        else:
-            points, normals = np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"])
-            fields = mesh.point_data
-        if wanted:
-            from phonglab.teaching import shade_scene
-
-            values = shading.term_of(shade_scene(self.scene, points, normals, name), term)
-        else:
-            values = shading.term_of(shading.shade(self.scene, points, normals), term)
-        fields[COLOR_ARRAY][...] = shading.to_rgb8(values)
-        fields.GetArray(COLOR_ARRAY).Modified()
-        self._mistake_painted = wanted
+        The view recolours its mesh (and shades its pixel image) with the
+        mistake; where the mistake cannot show in the current interpolation
+        mode, the page says so (``mistake_note``).
+        """
+        info = self.state.mistake
+        wanted = bool(info and info.get("available") and self.options.get("mistake"))
+        self.view.set_mistake(info["name"] if wanted else None)
+        self.state.mistake_note = self.view.mistake_note
 
     def _mistake_info(self) -> dict | None:
         """The lesson's common mistake for the page, or None."""
@@ -418,13 +404,10 @@ class LessonApp(TrameApp):
         try:
             m = get_mistake(name)
         except ValueError as exc:
-            return {"title": name, "looks_like": str(exc), "wrong": "", "right": "", "available": False,
-                    "note": ""}
-        note = ""
-        if m.needs_raw_normals:
-            note = "This mistake shows only where normals are interpolated per pixel; the picture here is per vertex."
-        return {"title": m.title, "looks_like": m.looks_like, "wrong": m.wrong, "right": m.right,
-                "available": not m.needs_raw_normals, "note": note}
+            return {"name": name, "title": name, "looks_like": str(exc), "wrong": "", "right": "",
+                    "available": False}
+        return {"name": name, "title": m.title, "looks_like": m.looks_like, "wrong": m.wrong, "right": m.right,
+                "available": True}
 
     def _mapper(self):
         """The mapper of the shaded mesh (its input is the view's mesh)."""
@@ -707,9 +690,9 @@ class LessonApp(TrameApp):
                         html.Div("right", classes="phonglab-code-tag phonglab-code-right")
                         html.Code("{{ mistake.right }}")
                     v3.VSwitch(v_model=("view__mistake", False), v_if="mistake.available", color="error",
-                               label="Show the mistake on the mesh", density="compact", hide_details=True,
+                               label="Show the mistake in the picture", density="compact", hide_details=True,
                                classes="phonglab-mistake-switch")
-                    html.P("{{ mistake.note }}", v_if="mistake.note", classes="phonglab-note")
+                    html.P("{{ mistake_note }}", v_if="mistake_note", classes="phonglab-note phonglab-mistake-note")
                 with html.Div(v_if="question_html", classes="phonglab-question"):
                     html.H3("Check yourself")
                     html.Div(v_html=("question_html",))

@@ -133,6 +133,73 @@ LESSONS = {
 
         # A broken lesson
         """,
+    "04-raw-normals.md": """
+        +++
+        number = 4
+        title = "Normals left unnormalised"
+        controls = ["interpolation"]
+        mistake = "unnormalised-normals"
+        interpolation = "pixel"
+
+        [geometry]
+        kind = "sphere"
+        resolution = 10
+
+        [material]
+        ka = 0.1
+        kd = [0.8, 0.3, 0.2]
+        ks = 0.8
+        shininess = 60
+
+        [[lights]]
+        type = "ambient"
+        intensity = 0.15
+
+        [[lights]]
+        type = "point"
+        position = [2, 2.5, 3]
+
+        [camera]
+        eye = [0, 0, 4]
+        +++
+
+        # Normals left unnormalised
+
+        Per pixel, the blended normal must be normalised again.
+        """,
+    "05-unclamped.md": """
+        +++
+        number = 5
+        title = "Diffuse without the clamp"
+        controls = ["material.kd"]
+        mistake = "no-clamp-diffuse"
+
+        [geometry]
+        kind = "sphere"
+        resolution = 32
+
+        [material]
+        ka = 0.6
+        kd = 0.8
+        ks = 0
+        shininess = 10
+
+        [[lights]]
+        type = "ambient"
+        intensity = 0.3
+
+        [[lights]]
+        type = "point"
+        position = [-2.5, 2.0, 1.0]
+
+        [camera]
+        eye = [0, 0, 4]
+        +++
+
+        # Diffuse without the clamp
+
+        Where $n\\cdot l < 0$ the diffuse term must be zero, not negative.
+        """,
 }
 
 
@@ -238,6 +305,18 @@ class Page:
             "dots": {name: float(value) for name, value in raw["dots"].items()},
             "terms": raw["terms"],
         }
+
+    def open_lesson(self, title: str):
+        """Open a lesson from the drawer by its title and wait until the page shows it."""
+        self.page.locator(".phonglab-menu").click()
+        self.page.locator(".phonglab-lesson-item", has_text=title).click()
+        self.page.wait_for_function(
+            "(t) => { const e = document.querySelector('.phonglab-lesson-title'); return e && e.innerText.endsWith(t); }",
+            arg=title, timeout=30_000,
+        )
+        self.page.wait_for_function("() => window.trame.state.get('drawer') === false", timeout=10_000)
+        self.wait_settled()
+        return self
 
     def slider(self, key):
         """The thumb of the lesson's slider for a state key."""

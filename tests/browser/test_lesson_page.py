@@ -71,8 +71,9 @@ def test_slider_changes_picture_and_readout(app_page):
     for _ in range(20):  # log10(α) up by 0.2: α from 20 to about 32
         app_page.page.keyboard.press("ArrowRight")
     shown = ".phonglab-control-material__shininess__log .phonglab-value"
-    wait_for(lambda: 30 <= float(app_page.text(shown)) <= 33,
-             f"α to go from {value_before} to 20·10^0.2 ≈ 31.7 after 20 steps of 0.01 in log10 α")
+    # the last steps: log10 α from 1.49 (α ≈ 30.9) to 1.50 (α ≈ 31.6); wait for the last one
+    wait_for(lambda: 31.2 <= float(app_page.text(shown)) <= 33,
+             f"α to go from {value_before} to 10^1.5 ≈ 31.6 after 20 steps of 0.01 in log10 α")
     alpha = float(app_page.text(shown))
     wait_for(lambda: app_page.readout()["terms"]["specular"] != before["terms"]["specular"],
              "the specular term at the probe to change")
