@@ -182,7 +182,7 @@ def test_geometry_change_keeps_the_actor_and_resizes_arrays(view):
     view.update(red_sphere(geometry__kind="torus"))
     assert len(props(view)) == actor_count
     assert view.mesh.point_data["rgb"].shape == (view.mesh.n_points, 3)
-    assert view._mesh_actor.GetMapper().GetInput() is view.mesh
+    assert view.mesh_actor.GetMapper().GetInput() is view.mesh
 
 
 def test_without_vtk_text_only_geometry_actors_remain_and_screenshots_keep_labels():
@@ -283,3 +283,68 @@ def test_a_camera_set_from_outside_keeps_its_view_angle():
     assert kept == 24.0, f"the outside camera's view angle became {kept}"
     assert np.allclose(position, (0, 0, 3.0)) and refit > scene.camera.view_angle, (
         f"back on the scene's camera at {position}, the view angle is {refit}")
+
+
+def test_colour_array_is_the_array_vtk_draws_from_per_point_or_per_cell(view):
+    colours = view.colour_array()
+    assert (colours.name, colours.location) == ("rgb", "point")
+    assert colours.values.shape == (view.mesh.n_points, 3) and colours.values.dtype == np.uint8
+    before = np.array(colours.values)
+    view.update(red_sphere(material__ks=0.0))
+    assert not np.array_equal(colours.values, before), "the colour array seen before the update did not change"
+    flat = red_sphere(interpolation="flat")
+    view.update(flat)
+    colours = view.colour_array()
+    assert colours.location == "cell" and colours.values.shape == (view.mesh.n_cells, 3)
+    mapper = view.mesh_actor.GetMapper()
+    assert mapper.GetScalarMode() == vtk.VTK_SCALAR_MODE_USE_CELL_DATA
+    assert mapper.GetInput().GetCellData().GetArray(colours.name).GetNumberOfTuples() == view.mesh.n_cells
+
+
+def test_set_camera_moves_the_picture_and_reset_camera_brings_the_scenes_back():
+    scene = red_sphere(interpolation="pixel")
+    view = SceneView(scene, size=SIZE)
+    try:
+        start = view.camera_state()
+        own = view.pixel_image()
+        view.set_camera(eye=(2.0, 1.0, 3.0), focal_point=(0, 0, 0), up=(0, 1, 0), view_angle=25.0)
+        moved = view.camera_state()
+        turned = view.pixel_image()
+        view.reset_camera()
+        back = view.camera_state()
+        again = view.pixel_image()
+    finally:
+        view.close()
+    assert start.eye == pytest.approx(scene.camera.eye) and start.focal_point == pytest.approx(scene.camera.focal_point)
+    assert moved.eye == pytest.approx((2.0, 1.0, 3.0)) and moved.view_angle == 25.0, moved
+    assert np.dot(moved.up, np.subtract(moved.focal_point, moved.eye)) == pytest.approx(0.0, abs=1e-9), moved
+    assert not np.array_equal(own, turned), "the per-pixel image did not follow the camera"
+    assert back == start, f"reset_camera gave {back}, the scene's camera was {start}"
+    assert np.array_equal(own, again), "after reset_camera the picture differs from the scene's"
+
+
+@pytest.mark.parametrize("kwargs, says", [
+    ({"eye": (0, 0, float("nan"))}, "eye"),
+    ({"eye": (0, 0)}, "eye"),
+    ({"focal_point": "origin"}, "focal_point"),
+    ({"eye": (0, 0, 0)}, "focal_point"),
+    ({"up": (0, 0, 2)}, "up"),
+    ({"view_angle": 0}, "view_angle"),
+    ({"view_angle": 180}, "view_angle"),
+    ({"view_angle": "wide"}, "view_angle"),
+])
+def test_set_camera_refuses_bad_values_and_keeps_the_camera(view, kwargs, says):
+    before = view.camera_state()
+    args = {"eye": (0, 0, 5), "focal_point": (0, 0, 0), "up": (0, 1, 0), "view_angle": 30.0, **kwargs}
+    with pytest.raises(ValueError, match=says):
+        view.set_camera(**args)
+    assert view.camera_state() == before, f"{kwargs} moved the camera"
+
+
+def test_ray_hit_finds_the_first_surface_point_or_none(view):
+    point, normal = view.ray_hit((0.0, 0.0, 4.0), (0.2, 0.1, 0.0))
+    assert point[2] > 0.9 and abs(np.linalg.norm(point) - 1.0) < 0.02, point
+    assert normal @ (point / np.linalg.norm(point)) > 0.99, (point, normal)
+    assert view.ray_hit((0.0, 0.0, 4.0), (3.0, 0.0, 4.0)) is None
+    with pytest.raises(ValueError, match="origin"):
+        view.ray_hit((0.0, float("inf"), 4.0), (0, 0, 0))

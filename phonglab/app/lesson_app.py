@@ -47,7 +47,7 @@ from phonglab.app import sync, text
 from phonglab.app.client import MODULE, ColorPush, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
-from phonglab.render._vtk import set_camera
+from phonglab.render import SceneView
 from phonglab.scene import SceneError, load_lesson, load_scene, plan
 from phonglab.scene.loader import lesson_files
 
@@ -189,7 +189,6 @@ class LessonApp(TrameApp):
         self.scene = None
         self.options = {"term": "color"}
         self.view = None  # SceneView, created with the first good scene
-        self._mesh_mapper = None
         self._controls = {}  # state key -> Control
         self._watched = set()
         self._notice_serial = 0
@@ -207,8 +206,6 @@ class LessonApp(TrameApp):
         # one SceneView for the whole session, built from the first good scene
         good = [e for e in self.entries if e.ok]
         if good:
-            from phonglab.render import SceneView
-
             start = self.entries[first] if self.entries[first].ok else good[0]
             self.view = SceneView(start.scene, size=PIXEL_SIZE, labels=False, vtk_text=False)
         self._build_ui()
@@ -339,8 +336,7 @@ class LessonApp(TrameApp):
         self.view.update(scene)
         if new_lesson and self._camera_moved:
             # the browser turned the view: back to the lesson's camera
-            set_camera(self.view.renderer.GetActiveCamera(), scene.camera)
-            self.view.set_size(self.view.render_window.GetSize())
+            self.view.reset_camera()
             self._camera_moved = False
         self.view.set_term(self.options["term"])
         self._paint_mistake()
@@ -348,7 +344,6 @@ class LessonApp(TrameApp):
         if colours_only:
             self._push_colours()
         else:
-            self._mesh_mapper = None
             self.html_view.update()
             if new_lesson or (old is not None and old.camera != scene.camera):
                 self.html_view.push_camera()
@@ -409,29 +404,11 @@ class LessonApp(TrameApp):
         return {"name": name, "title": m.title, "looks_like": m.looks_like, "wrong": m.wrong, "right": m.right,
                 "available": True}
 
-    def _mapper(self):
-        """The mapper of the shaded mesh (its input is the view's mesh)."""
-        if self._mesh_mapper is None or self._mesh_mapper.GetInput() is not self.view.mesh:
-            actors = self.view.renderer.GetActors()
-            actors.InitTraversal()
-            for _ in range(actors.GetNumberOfItems()):
-                actor = actors.GetNextActor()
-                mapper = actor.GetMapper()
-                if mapper is not None and mapper.GetInput() is self.view.mesh:
-                    self._mesh_mapper = mapper
-                    break
-        return self._mesh_mapper
-
     def _push_colours(self) -> None:
         """Send only the mesh's new colours to the browser."""
-        mesh = self.view.mesh
-        from phonglab.render.glyphs import COLOR_ARRAY
-
-        if self.scene.interpolation == "flat":
-            colours, location = mesh.cell_data[COLOR_ARRAY], "cell"
-        else:
-            colours, location = mesh.point_data[COLOR_ARRAY], "point"
-        self.state.view_colors = color_payload(self._mapper(), colours, name=COLOR_ARRAY, location=location)
+        colours = self.view.colour_array()
+        self.state.view_colors = color_payload(self.view.mesh_actor.GetMapper(), colours.values,
+                                               name=colours.name, location=colours.location)
         self.state.flush()
 
     def _refresh_pixels(self) -> None:
@@ -530,14 +507,12 @@ class LessonApp(TrameApp):
     @_guarded
     def on_pick(self, event=None, *_, **__) -> None:
         """A click on the view: move the probe to the first surface point under it."""
-        from phonglab.render.mesh import ray_hit
-
         try:
             ray = (event or {}).get("ray") if isinstance(event, dict) else None
             if not (isinstance(ray, list) and len(ray) == 2):
                 return
             near, far = (_finite3(p) for p in ray)
-            hit = ray_hit(self.view.mesh, near, far)
+            hit = self.view.ray_hit(near, far)
             if hit is None:
                 return
             point = [round(float(c), 6) for c in hit[0]]
@@ -565,18 +540,15 @@ class LessonApp(TrameApp):
         Lighting keeps using the scene's eye; this only makes the server's
         picture (pixel mode) look from where the browser looks.
         """
-        from phonglab.scene import Camera
-
         try:
             if not isinstance(camera, dict):
                 return
-            seen = Camera(
+            self.view.set_camera(
                 eye=_finite3(camera.get("position")),
                 focal_point=_finite3(camera.get("focalPoint")),
                 up=_finite3(camera.get("viewUp")),
                 view_angle=float(camera.get("viewAngle", self.scene.camera.view_angle)),
             )
-            set_camera(self.view.renderer.GetActiveCamera(), seen)
             self._camera_moved = True
             if self.scene.interpolation == "pixel":
                 self._refresh_pixels()
@@ -595,7 +567,7 @@ class LessonApp(TrameApp):
         if self.view is None or not (64 <= width <= 4096 and 64 <= height <= 4096):
             return
         width, height = min(width, MAX_PIXEL_SIDE), min(height, MAX_PIXEL_SIDE)
-        if tuple(self.view.render_window.GetSize()) != (width, height):
+        if self.view.size != (width, height):
             self.view.set_size((width, height))
             if self.scene is not None and self.scene.interpolation == "pixel":
                 self._refresh_pixels()
@@ -704,7 +676,7 @@ class LessonApp(TrameApp):
         with html.Div(classes="phonglab-centre"):
             with html.Div(classes="phonglab-view"):
                 with vtk_widgets.VtkLocalView(
-                    self.view.render_window if self.view is not None else _empty_window(),
+                    self.view.render_window if self.view is not None else SceneView.empty_window(),
                     ref="phonglab_view",
                     picking_modes=("['click']",),
                     click=(self.on_pick, "[$event]"),
@@ -846,17 +818,6 @@ _INTERACTION = [
     {"button": 1, "action": "Pan", "shift": True},
     {"button": 1, "action": "Zoom", "control": True},
 ]
-
-
-def _empty_window():
-    """An empty render window, for a page whose lessons all have errors."""
-    import vtk
-
-    from phonglab.render._vtk import make_render_window
-
-    window = make_render_window((16, 16))
-    window.AddRenderer(vtk.vtkRenderer())
-    return window
 
 
 def _widget(control: ctl.Control, suffix: str = "") -> None:

@@ -38,6 +38,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+from typing import NamedTuple
 
 import numpy as np
 import pyvista as pv
@@ -77,6 +78,36 @@ def default_probe(mesh: pv.PolyData, camera) -> tuple[np.ndarray, np.ndarray]:
     """
     hit = ray_hit(mesh, camera.eye, camera.focal_point)
     return hit if hit is not None else surface_point(mesh, camera.eye)
+
+
+class ColourArray(NamedTuple):
+    """The colours a :class:`SceneView` shows on its mesh (see :meth:`SceneView.colour_array`)."""
+
+    #: the array's name in the mesh's point or cell data
+    name: str
+    #: ``"point"`` (Gouraud, pixel mode's preview) or ``"cell"`` (flat)
+    location: str
+    #: uint8 RGB, shape (number of points or cells, 3): the array itself, not a copy
+    values: np.ndarray
+
+
+class CameraState(NamedTuple):
+    """Where the view's VTK camera stands and looks (see :meth:`SceneView.camera_state`)."""
+
+    eye: tuple[float, float, float]
+    focal_point: tuple[float, float, float]
+    up: tuple[float, float, float]
+    view_angle: float
+
+
+def _finite_vector(name: str, value) -> np.ndarray:
+    try:
+        v = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        v = None
+    if v is None or v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{name}: must be 3 finite numbers, got {value!r}")
+    return v
 
 
 class SceneView:
@@ -367,6 +398,112 @@ class SceneView:
     def mistake_note(self) -> str:
         """A sentence to show when the mistake set cannot show in this mode, else ``""``."""
         return shading.mistake_note(self.mistake, self.scene.interpolation)
+
+    # ------------------------------------------------------------------
+    # what a front end (the web app) needs to know and set
+
+    @property
+    def mesh_actor(self) -> vtk.vtkActor:
+        """The actor of the shaded mesh (the same actor for the life of the view).
+
+        Its mapper's input is the polydata shown, which holds the colour
+        arrays (:meth:`colour_array`).
+        """
+        return self._mesh_actor
+
+    def colour_array(self) -> ColourArray:
+        """The colours the mesh shows now, in the array VTK draws them from.
+
+        Per cell in flat mode, per point otherwise. The values are the array
+        itself: the view overwrites them in place on every change of
+        material, lights, model, term or mistake.
+        """
+        location = "cell" if self.scene.interpolation == "flat" else "point"
+        fields = self.mesh.cell_data if location == "cell" else self.mesh.point_data
+        return ColourArray(glyphs.COLOR_ARRAY, location, fields[glyphs.COLOR_ARRAY])
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """The window's (width, height) in pixels."""
+        width, height = self.render_window.GetSize()
+        return int(width), int(height)
+
+    def camera_state(self) -> CameraState:
+        """Where the VTK camera is now (the scene's camera, or one set by :meth:`set_camera`)."""
+        camera = self.renderer.GetActiveCamera()
+        return CameraState(
+            eye=tuple(float(c) for c in camera.GetPosition()),
+            focal_point=tuple(float(c) for c in camera.GetFocalPoint()),
+            up=tuple(float(c) for c in camera.GetViewUp()),
+            view_angle=float(camera.GetViewAngle()),
+        )
+
+    def set_camera(self, eye, focal_point, up=(0.0, 1.0, 0.0), view_angle: float = 30.0) -> None:
+        """Look from ``eye`` at ``focal_point`` (a browser's camera, say); lighting keeps the scene's eye.
+
+        Only the picture changes (the window, :meth:`pixel_image`,
+        :meth:`screenshot`): the core still shades for the scene's camera.
+        A camera away from the scene's keeps ``view_angle`` as given (the
+        arrows do not refit it); :meth:`reset_camera` goes back.
+
+        Raises
+        ------
+        ValueError
+            For a point or direction that is not 3 finite numbers, an eye on
+            the focal point, an up vector along the line of sight, or a view
+            angle outside (0, 180) degrees; the camera stays as it was.
+        """
+        eye = _finite_vector("eye", eye)
+        focal_point = _finite_vector("focal_point", focal_point)
+        up = _finite_vector("up", up)
+        try:
+            angle = float(view_angle)
+        except (TypeError, ValueError):
+            angle = math.nan
+        if not 0.0 < angle < 180.0:
+            raise ValueError(f"view_angle: must be a number of degrees between 0 and 180, got {view_angle!r}")
+        sight = focal_point - eye
+        distance = float(np.linalg.norm(sight))
+        if not distance > 0.0:
+            raise ValueError(f"focal_point: must differ from the eye {tuple(eye)}, got {tuple(focal_point)}")
+        if not np.linalg.norm(np.cross(sight / distance, up)) > 1e-9 * max(1.0, float(np.linalg.norm(up))):
+            raise ValueError(f"up: must not point along the line of sight {tuple(sight / distance)}, got {tuple(up)}")
+        camera = self.renderer.GetActiveCamera()
+        camera.SetPosition(*eye)
+        camera.SetFocalPoint(*focal_point)
+        camera.SetViewUp(*up)
+        camera.SetViewAngle(angle)
+        camera.OrthogonalizeViewUp()
+        self._fit_view_angle()
+        self._sync_eye_visibility()
+
+    def reset_camera(self) -> None:
+        """Look through the scene's camera again (after :meth:`set_camera`), the view angle refitted."""
+        set_camera(self.renderer.GetActiveCamera(), self.scene.camera)
+        self._fit_view_angle()
+        self._sync_eye_visibility()
+
+    def ray_hit(self, origin, target):
+        """The first mesh point on the ray from ``origin`` through ``target`` (a click's ray).
+
+        Returns
+        -------
+        (point, normal) or None
+            ndarrays of shape (3,); None when the ray misses the mesh.
+
+        Raises
+        ------
+        ValueError
+            When ``origin`` or ``target`` is not 3 finite numbers.
+        """
+        return ray_hit(self.mesh, _finite_vector("origin", origin), _finite_vector("target", target))
+
+    @staticmethod
+    def empty_window(size=(16, 16)) -> vtk.vtkRenderWindow:
+        """An offscreen render window with one empty renderer (for a page that has no scene to show)."""
+        window = make_render_window(size)
+        window.AddRenderer(vtk.vtkRenderer())
+        return window
 
     def set_vectors(self, vectors) -> None:
         """Choose which of N, L, R, V, H are drawn (``"NLRVH"``, ``"N,L"``, None)."""
