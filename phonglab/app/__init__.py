@@ -55,8 +55,13 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phon
     on_ready : callable, optional
         Called with the bound port once the server accepts connections.
     """
+    from phonglab.app import accuracy_panel
     from phonglab.app.server import SessionServer
 
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
-    server = SessionServer(make_app(target, export_dir=export_dir))
-    asyncio.run(server.run(host, port, on_ready=on_ready))
+    try:
+        server = SessionServer(make_app(target, export_dir=export_dir))
+        asyncio.run(server.run(host, port, on_ready=on_ready))
+    finally:
+        # the accuracy lesson's worker processes, if any were started
+        accuracy_panel.shutdown()

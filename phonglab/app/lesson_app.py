@@ -15,6 +15,10 @@ What happens on a change:
    otherwise the local view is synchronised;
 3. the readout, the planner's verdict and the other widgets follow.
 
+The accuracy lesson (``NN-accuracy.md``) also gets the panel of
+:mod:`phonglab.app.accuracy_panel` below the view: the accuracy plot and the
+error images of a picked method and mesh, computed in worker processes.
+
 Nothing a browser sends can stop the server: every handler catches its
 errors and reports them on the page.
 """
@@ -43,6 +47,9 @@ from trame.widgets import vuetify3 as v3
 
 from phonglab import core
 from phonglab.app import controls as ctl
+from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
+from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
+from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app import sync, text
 from phonglab.app.client import MODULE, ColorPush, color_payload
 from phonglab.app.readout import probe_readout
@@ -199,6 +206,7 @@ class LessonApp(TrameApp):
         self._camera_moved = False
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
+        self.accuracy = AccuracyPanel(self.state, self.notify)
         self.state.change("view_size")(self._on_view_size)
         # cheaper full synchronisations (after trame-vtk has set up this session)
         sync.install()
@@ -282,6 +290,7 @@ class LessonApp(TrameApp):
             s.has_view = self.view is not None
             self._controls = {}
             self._build_controls([])
+            self.accuracy.open(None, None)
             return
         s.lesson_errors = []
         lesson = entry.lesson
@@ -295,6 +304,7 @@ class LessonApp(TrameApp):
         s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
         s.mistake = self._mistake_info()
         self.options = {"term": "color"}
+        self.accuracy.open(entry, entry.scene)
         self._show_scene(entry.scene, new_lesson=True)
 
     @_guarded
@@ -436,6 +446,7 @@ class LessonApp(TrameApp):
         point, normal = self.view.probe
         s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
+        self.accuracy.follow(scene)
         # controls
         frame = ctl.Frame.of_camera(self.entry.scene.camera)
         all_controls = ctl.scene_controls(scene, frame=frame)
@@ -709,10 +720,63 @@ class LessonApp(TrameApp):
                     "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
                     classes="phonglab-hint",
                 )
+            self._accuracy_panel()
             self._readout_panel()
 
+    def _accuracy_panel(self):
+        """The accuracy lesson's panel: the error images for a picked method and mesh, and the plot."""
+        with html.Div(classes="phonglab-accuracy", v_if="accuracy"):
+            with html.Div(classes="phonglab-accuracy-head"):
+                html.Span("Error against the exact sphere", classes="phonglab-section")
+                with v3.VBtnToggle(v_model=("accuracy_method",), mandatory=True, density="compact",
+                                   variant="outlined", divided=True, classes="phonglab-accuracy-method"):
+                    for value, title in ACCURACY_METHODS:
+                        v3.VBtn(title, value=value, size="small", classes=f"phonglab-accuracy-method-{value}")
+                with v3.VBtnToggle(v_model=("accuracy_resolution",), mandatory=True, density="compact",
+                                   variant="outlined", divided=True, classes="phonglab-accuracy-resolution"):
+                    for value in ACCURACY_RESOLUTIONS:
+                        v3.VBtn(str(value), value=(str(value),), size="small",  # bound: a number, not a string
+                                classes=f"phonglab-accuracy-resolution-{value}")
+                html.Span("segments", classes="phonglab-note")
+            v3.VProgressLinear(indeterminate=True, v_if="accuracy_busy", color="primary", height=2,
+                               classes="phonglab-accuracy-busy")
+            html.Div("Measuring… (the first picture takes a few seconds)", v_if="!accuracy_view",
+                     classes="phonglab-note phonglab-accuracy-wait")
+            with html.Div(v_else=True, classes="phonglab-accuracy-images"):
+                for key, caption in (
+                    ("render", "'render: ' + accuracy_view.method + ', ' + accuracy_view.resolution + ' segments'"),
+                    ("reference", "'exact sphere'"),
+                    ("error", "'error |render \u2212 exact|, α = ' + accuracy_view.shininess"),
+                ):
+                    with html.Figure(classes=f"phonglab-accuracy-figure phonglab-accuracy-{key}"):
+                        html.Img(src=(f"accuracy_view.{key}",), alt=key)
+                        html.Figcaption(f"{{{{ {caption} }}}}")
+                with html.Div(classes="phonglab-accuracy-scale"):
+                    html.Img(src=("accuracy_view.scale",), alt="error colour scale")
+                    with html.Div(classes="phonglab-accuracy-ticks"):
+                        html.Span("{{ t }}", v_for="(t, i) in accuracy_view.scale_labels", key="i")
+                with html.Div(classes="phonglab-accuracy-figures"):
+                    with html.Div(v_for="f in accuracy_view.figures", key="f.name", title=("f.title",),
+                                  classes="phonglab-accuracy-number"):
+                        html.Span("{{ f.name }}", classes="phonglab-term-name")
+                        html.Span("{{ f.value }}", classes="phonglab-mono",
+                                  data_figure=("f.name",), __properties=[("data_figure", "data-figure")])
+            html.Div("What accuracy costs in time (quick run of phonglab bench accuracy)",
+                     classes="phonglab-section mt-3")
+            with html.Div(v_if="accuracy_plot.status === 'measuring'", classes="phonglab-accuracy-measuring"):
+                v3.VProgressCircular(indeterminate=True, size=18, width=2, color="primary")
+                html.Span("measuring… the four studies take about five seconds", classes="phonglab-note")
+            html.Div("Could not measure: {{ accuracy_plot.error }}", v_if="accuracy_plot.status === 'failed'",
+                     classes="phonglab-note phonglab-accuracy-failed")
+            html.Img(v_if="accuracy_plot.status === 'ready'", src=("accuracy_plot.src",),
+                     alt="error against time for the four studies", title="click to enlarge",
+                     click="accuracy_zoom = true", classes="phonglab-accuracy-plot")
+            with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw"):
+                with v3.VCard(click="accuracy_zoom = false"):
+                    html.Img(src=("accuracy_plot.src",), classes="phonglab-accuracy-plot-large")
+
     def _readout_panel(self):
-        with html.Div(classes="phonglab-readout", v_if="readout"):
+        with html.Div(classes="phonglab-readout", v_if="readout && !accuracy"):
             with html.Div(classes="phonglab-readout-head"):
                 html.Span("At the probe", classes="phonglab-section")
                 html.Span("{{ readout.point }}", classes="phonglab-mono phonglab-point")
@@ -787,6 +851,7 @@ class LessonApp(TrameApp):
         if self._panels_handle is not None:
             self._panels_handle.cancel()
             self._panels_handle = None
+        self.accuracy.close()
         if self.view is not None:
             try:
                 self.view.close()

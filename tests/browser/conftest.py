@@ -200,6 +200,39 @@ LESSONS = {
 
         Where $n\\cdot l < 0$ the diffuse term must be zero, not negative.
         """,
+    "11-accuracy.md": """
+        +++
+        number = 11
+        title = "Accuracy costs time"
+        controls = ["interpolation", "geometry.resolution", "material.shininess"]
+        interpolation = "gouraud"
+
+        [geometry]
+        kind = "sphere"
+        resolution = 16
+
+        [material]
+        ka = 0.1
+        kd = [0.8, 0.3, 0.2]
+        ks = 0.8
+        shininess = 200
+
+        [[lights]]
+        type = "ambient"
+        intensity = 0.2
+
+        [[lights]]
+        type = "point"
+        position = [2, 2.5, 3]
+
+        [camera]
+        eye = [0, 0, 4]
+        +++
+
+        # Accuracy costs time
+
+        Pick a method and a mesh; compare with the exact sphere.
+        """,
 }
 
 

@@ -27,6 +27,19 @@ def wait_for(predicate, what, timeout=20.0):
     pytest.fail(f"timed out after {timeout:.0f} s waiting for {what}; last value: {value!r}")
 
 
+def steady_hash(app_page) -> int:
+    """The view's pixel hash once two reads half a second apart agree (the lesson has finished drawing)."""
+    last = app_page.pixel_hash()
+    for _ in range(20):
+        time.sleep(0.5)
+        app_page.wait_settled()
+        now = app_page.pixel_hash()
+        if now == last:
+            return now
+        last = now
+    pytest.fail("the view kept changing for 10 s")
+
+
 def pixel_src(app_page) -> str:
     images = app_page.page.locator(".phonglab-pixel img")
     return images.get_attribute("src") if images.count() else ""
@@ -61,7 +74,7 @@ def test_gouraud_mistake_changes_the_view_and_switching_off_restores_it(app_page
     page = app_page.page
     app_page.open_lesson("Diffuse without the clamp")
     assert app_page.state("interpolation") == "gouraud"
-    correct = app_page.pixel_hash()
+    correct = steady_hash(app_page)
     page.locator(SWITCH).click()
     wait_for(lambda: app_page.state("view__mistake") is True, "the mistake switch to turn on")
     app_page.wait_settled()

@@ -1,0 +1,427 @@
+"""The panel of the lesson "Accuracy costs time": the accuracy plot and the error images.
+
+When the accuracy lesson is open (a lesson file named ``NN-accuracy.md``),
+the page shows
+
+* the accuracy plot (:func:`phonglab.accuracy.accuracy_plot_png`): the quick
+  studies, about five seconds of work, done once per server process and
+  kept for every tab after that;
+* a picker (method, mesh resolution) and, for the pick, the render, the
+  exact sphere and the false-coloured error image with its scale bar and
+  figures (:func:`phonglab.accuracy.error_images`, at the lesson's current
+  shininess α).
+
+Both are computed in worker processes (:func:`submit`), never in the
+server's event loop that every tab shares, and reach the page as PNG data
+URLs. The page shows "measuring…" meanwhile. A session asks for at most one
+set of error images at a time; picks made while one is being computed are
+merged into the last one.
+
+This module imports only the standard library at import time: the worker
+processes import it to run :func:`plot_data_url` and :func:`error_panel`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import concurrent.futures
+import io
+import logging
+import math
+import multiprocessing
+import signal
+import tempfile
+import threading
+from pathlib import Path
+
+log = logging.getLogger(__name__)
+
+#: a lesson file ``NN-<slug>.md`` with this slug gets the panel
+LESSON_SLUG = "accuracy"
+#: the picker's methods: value -> label
+METHODS = (("flat", "Flat"), ("gouraud", "Gouraud"), ("pixel", "Per pixel"))
+#: the picker's mesh resolutions (segments around the sphere)
+RESOLUTIONS = (8, 16, 32, 64, 128)
+#: the pick shown first when the lesson's own scene is not one of the choices
+DEFAULT_PICK = ("gouraud", 16)
+#: worker processes shared by every tab of the server
+WORKERS = 2
+#: the longest wait for a result before the page says it failed (seconds)
+TIMEOUT = 180.0
+#: size of the error images in pixels (width = height)
+IMAGE_SIZE = 256
+
+
+# ---------------------------------------------------------------------------
+# checking the picker's values (they come from the browser)
+
+
+def check_method(value) -> str:
+    """The picker's method, or ValueError naming the value and the methods allowed."""
+    allowed = [m for m, _ in METHODS]
+    if not isinstance(value, str) or value not in allowed:
+        raise ValueError(f"accuracy.method: must be one of {', '.join(allowed)}, got {value!r}")
+    return value
+
+
+def check_resolution(value) -> int:
+    """The picker's resolution, or ValueError naming the value and the resolutions allowed."""
+    allowed = ", ".join(str(r) for r in RESOLUTIONS)
+    number = None
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value):
+        if float(value).is_integer():
+            number = int(value)
+    if number not in RESOLUTIONS:
+        raise ValueError(f"accuracy.resolution: must be one of {allowed}, got {value!r}")
+    return number
+
+
+def is_accuracy_lesson(path) -> bool:
+    """Whether the lesson file at ``path`` is the accuracy lesson (``NN-accuracy.md``)."""
+    stem = Path(path).stem
+    return stem.split("-", 1)[-1] == LESSON_SLUG
+
+
+def pick_for(scene) -> tuple[str, int] | None:
+    """The picker's (method, resolution) for a scene, or None when the scene is not one of the choices."""
+    method, resolution = scene.interpolation, scene.geometry.resolution
+    if method in dict(METHODS) and resolution in RESOLUTIONS:
+        return method, int(resolution)
+    return None
+
+
+# ---------------------------------------------------------------------------
+# the work, run in a worker process
+
+
+def png_data_url(image) -> str:
+    """An RGB uint8 image (height, width, 3) as a ``data:image/png;base64,...`` URL."""
+    from PIL import Image
+
+    buffer = io.BytesIO()
+    Image.fromarray(image).save(buffer, format="PNG")
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def plot_data_url() -> str:
+    """Run the quick studies and return the accuracy plot as a PNG data URL."""
+    from phonglab.accuracy import accuracy_plot_png
+
+    with tempfile.TemporaryDirectory(prefix="phonglab-accuracy-") as folder:
+        path = accuracy_plot_png(Path(folder) / "accuracy.png")
+        data = Path(path).read_bytes()
+    return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
+
+
+def _figure(value: float) -> str:
+    return f"{value:.3g}" if value >= 1e-3 else f"{value:.2e}"
+
+
+def _milliseconds(seconds: float) -> str:
+    return f"{seconds * 1000:.3g} ms"
+
+
+def error_panel(method: str, resolution: int, shininess: float) -> dict:
+    """The error images and figures for one pick, ready for the page.
+
+    Returns
+    -------
+    dict
+        ``method``, ``resolution``, ``shininess`` (the request), the data
+        URLs ``render``, ``reference``, ``error`` and ``scale`` (the scale
+        bar), ``scale_labels`` (the errors at the bar's ticks) and
+        ``figures``: a list of ``{"name", "value", "title"}`` (RMSE, max
+        error, peak error, highlight RMSE, time, the exact sphere's time).
+    """
+    from phonglab.accuracy import error_images, error_scale_bar
+
+    view = error_images(method, int(resolution), size=IMAGE_SIZE, shininess=float(shininess))
+    lo, hi = view.error_range
+    decades = round(math.log10(hi / lo))
+    return {
+        "method": method,
+        "resolution": int(resolution),
+        "shininess": float(shininess),
+        "render": png_data_url(view.render),
+        "reference": png_data_url(view.reference),
+        "error": png_data_url(view.error),
+        "scale": png_data_url(error_scale_bar(256, 10)),
+        "scale_labels": [_power_of_ten(lo * 10**k) for k in range(decades + 1)],
+        "figures": [
+            {"name": "RMSE", "value": _figure(view.rmse), "title": "root-mean-square error over the sphere"},
+            {"name": "max error", "value": _figure(view.max_error), "title": "the largest error of any pixel"},
+            {"name": "peak error", "value": _figure(view.peak_error),
+             "title": "the error at the brightest pixel of the exact highlight"},
+            {"name": "highlight RMSE", "value": _figure(view.highlight_rmse),
+             "title": "root-mean-square error inside the exact highlight"},
+            {"name": "time", "value": _milliseconds(view.time), "title": "median time of the method's shading work"},
+            {"name": "exact sphere", "value": _milliseconds(view.reference_time),
+             "title": "median time of shading the exact sphere (the reference)"},
+        ],
+    }
+
+
+def _power_of_ten(value: float) -> str:
+    exponent = round(math.log10(value))
+    if exponent == 0:
+        return "1"
+    digits = str(exponent).replace("-", "\u2212")
+    superscript = digits.translate(str.maketrans("0123456789\u2212", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻"))
+    return f"10{superscript}"
+
+
+# ---------------------------------------------------------------------------
+# worker processes, shared by every tab of this server process
+
+_lock = threading.Lock()
+_pool = None
+_plot = None  # concurrent Future of plot_data_url(), kept once it succeeded
+
+
+def _ignore_interrupts() -> None:
+    # Ctrl-C reaches the whole process group: the server stops its workers itself
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def submit(function, *args) -> concurrent.futures.Future:
+    """Run ``function(*args)`` in a worker process; a Future of its result.
+
+    The workers are started (spawned, not forked: the server holds threads
+    and OpenGL contexts) on the first call.
+    """
+    global _pool
+    future = concurrent.futures.Future()
+    future.set_running_or_notify_cancel()
+    with _lock:
+        if _pool is None:
+            _pool = multiprocessing.get_context("spawn").Pool(WORKERS, initializer=_ignore_interrupts)
+        _pool.apply_async(function, args, callback=future.set_result, error_callback=future.set_exception)
+    return future
+
+
+def plot_future() -> concurrent.futures.Future:
+    """The accuracy plot's Future: started on the first call, kept once it succeeded, retried after a failure."""
+    global _plot
+    with _lock:
+        plot = _plot
+    if plot is None or (plot.done() and plot.exception() is not None):
+        plot = submit(plot_data_url)
+        with _lock:
+            _plot = plot
+    return plot
+
+
+def forget_plot(future) -> None:
+    """Drop ``future`` as the plot's (it failed or took too long): the next request measures again."""
+    global _plot
+    with _lock:
+        if _plot is future:
+            _plot = None
+
+
+def shutdown() -> None:
+    """Stop the worker processes at once (work in progress is dropped)."""
+    global _pool, _plot
+    with _lock:
+        pool, _pool, _plot = _pool, None, None
+    if pool is not None:
+        pool.terminate()
+        pool.join()
+
+
+# ---------------------------------------------------------------------------
+# one tab's panel
+
+
+class AccuracyPanel:
+    """The accuracy panel's state for one tab (one :class:`~phonglab.app.lesson_app.LessonApp`).
+
+    State keys: ``accuracy`` (the panel is shown), ``accuracy_method`` and
+    ``accuracy_resolution`` (the picker), ``accuracy_plot`` (``{"status":
+    "measuring" | "ready" | "failed", "src", "error"}``), ``accuracy_view``
+    (the last :func:`error_panel` result, or None) and ``accuracy_busy``
+    (error images are being computed).
+
+    Parameters
+    ----------
+    state : trame state
+    notify : callable
+        ``notify(kind, text)``: a notice on the page.
+    """
+
+    def __init__(self, state, notify):
+        self.state = state
+        self.notify = notify
+        self.active = False
+        self._scene_pick = None  # the scene's (interpolation, resolution) last seen
+        self._pick = DEFAULT_PICK  # the picker's last good (method, resolution)
+        self._shininess = None
+        self._wanted = None  # (method, resolution, shininess) the page should show
+        self._running = None  # the request being computed
+        self._tasks = set()
+        self._closed = False
+        s = state
+        s.accuracy = False
+        s.accuracy_method, s.accuracy_resolution = DEFAULT_PICK
+        s.accuracy_plot = {"status": "idle", "src": "", "error": ""}
+        s.accuracy_view = None
+        s.accuracy_busy = False
+        s.accuracy_zoom = False
+        s.change("accuracy_method")(lambda **_: self._on_pick("accuracy_method", check_method))
+        s.change("accuracy_resolution")(lambda **_: self._on_pick("accuracy_resolution", check_resolution))
+
+    # -- lesson and scene
+
+    def open(self, entry, scene) -> None:
+        """A lesson was opened: show the panel if it is the accuracy lesson, else hide it."""
+        self.active = bool(entry is not None and entry.lesson is not None and is_accuracy_lesson(entry.path))
+        self.state.accuracy = self.active
+        self._scene_pick = None
+        if not self.active:
+            return
+        self._start_plot()
+        self.follow(scene)
+
+    def follow(self, scene) -> None:
+        """The scene changed: the picker follows a new interpolation or resolution, α is used for the images."""
+        if not self.active or scene is None:
+            return
+        scene_pick = (scene.interpolation, scene.geometry.resolution)
+        if scene_pick != self._scene_pick:
+            self._scene_pick = scene_pick
+            pick = pick_for(scene)
+            if pick is not None or self._wanted is None:
+                self.state.accuracy_method, self.state.accuracy_resolution = pick or DEFAULT_PICK
+        self._shininess = float(scene.material.shininess)
+        self._request()
+
+    # -- the picker
+
+    def _on_pick(self, key, check) -> None:
+        """A picker value from the browser: checked, then the images follow (or a notice and the old value)."""
+        which = 0 if key == "accuracy_method" else 1
+        try:
+            value = check(self.state[key])
+        except ValueError as exc:
+            self.notify("error", f"Refused: {exc}. The previous value stays.")
+            self.state[key] = self._pick[which]
+            return
+        pick = list(self._pick)
+        pick[which] = value
+        self._pick = tuple(pick)
+        if self.active:
+            self._request()
+
+    def _request(self) -> None:
+        """Ask for the error images of the picker's values at the current α (merged while one is computed)."""
+        try:
+            method = check_method(self.state.accuracy_method)
+            resolution = check_resolution(self.state.accuracy_resolution)
+        except ValueError:
+            return  # refused by _on_pick, which puts the previous value back
+        self._pick = (method, resolution)
+        wanted = (method, resolution, self._shininess if self._shininess is not None else 200.0)
+        if wanted == self._wanted:
+            return
+        self._wanted = wanted
+        if self._running is None:
+            self._start_images()
+
+    def _start_images(self) -> None:
+        request = self._wanted
+        self._running = request
+        self.state.accuracy_busy = True
+        self._when_done(submit(error_panel, *request), lambda future: self._images_done(request, future))
+
+    def _images_done(self, request, future) -> None:
+        self._running = None
+        try:
+            result = future.result()
+        except Exception as exc:
+            log.error("error images for %s failed: %s", request, exc)
+            self.notify("error", f"Could not compute the error images for {request[0]}, {request[1]} segments: {exc}")
+        else:
+            if request == self._wanted:
+                self.state.accuracy_view = result
+        if self._wanted != request and self.active:
+            self._start_images()
+        else:
+            self.state.accuracy_busy = False
+
+    # -- the plot
+
+    def _start_plot(self) -> None:
+        future = plot_future()
+        if future.done() and future.exception() is None:
+            self.state.accuracy_plot = {"status": "ready", "src": future.result(), "error": ""}
+            return
+        self.state.accuracy_plot = {"status": "measuring", "src": "", "error": ""}
+        self._when_done(future, self._plot_done)
+
+    def _plot_done(self, future) -> None:
+        try:
+            src = future.result()
+        except Exception as exc:
+            forget_plot(future)
+            log.error("the accuracy plot failed: %s", exc)
+            self.state.accuracy_plot = {"status": "failed", "src": "", "error": f"{type(exc).__name__}: {exc}"}
+        else:
+            self.state.accuracy_plot = {"status": "ready", "src": src, "error": ""}
+
+    # -- waiting without blocking the event loop
+
+    def _when_done(self, future, callback) -> None:
+        """Call ``callback(future)`` once ``future`` is done, in the server's event loop.
+
+        Without a running loop (scripts, tests) the callback runs in the
+        thread that completes the future, as soon as it is done.
+        """
+        if future.done():  # a result kept from before (the plot), or work run inline
+            self._deliver(callback, future)
+            return
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:
+            loop = None
+        if loop is None:
+            future.add_done_callback(lambda done: self._deliver(callback, done))
+            return
+        task = loop.create_task(self._wait(future, callback))
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+
+    async def _wait(self, future, callback) -> None:
+        try:
+            await asyncio.wait_for(asyncio.shield(asyncio.wrap_future(future)), timeout=TIMEOUT)
+        except asyncio.CancelledError:
+            raise
+        except Exception:
+            pass  # the callback reads the failure from the future
+        if self._closed:
+            return
+        with self.state:  # the changes go to the browser when the block ends
+            self._deliver(callback, _timed_out(future))
+
+    def _deliver(self, callback, future) -> None:
+        if self._closed:
+            return
+        try:
+            callback(future)
+        except Exception:
+            log.exception("accuracy panel")
+
+    def close(self) -> None:
+        """Stop waiting for results (the tab closed)."""
+        self._closed = True
+        for task in list(self._tasks):
+            task.cancel()
+
+
+def _timed_out(future) -> concurrent.futures.Future:
+    """``future`` itself when done, else a Future that failed with a timeout."""
+    if future.done():
+        return future
+    failed = concurrent.futures.Future()
+    failed.set_exception(TimeoutError(f"no result after {TIMEOUT:.0f} s"))
+    return failed

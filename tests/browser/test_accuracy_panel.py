@@ -1,0 +1,93 @@
+"""The accuracy lesson's panel in a real browser: the plot, the picker, the error images.
+
+The test lesson ``11-accuracy.md`` (``conftest.LESSONS``) gets the panel by
+its name. The plot is measured once per server process in worker
+processes; while it is being measured, another tab keeps working.
+"""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+PLOT = ".phonglab-accuracy-plot"
+
+
+def wait_for(predicate, what, timeout=20.0):
+    """Poll ``predicate()`` until it is truthy; fail naming ``what`` and the last value."""
+    deadline = time.monotonic() + timeout
+    value = None
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.1)
+    pytest.fail(f"timed out after {timeout:.0f} s waiting for {what}; last value: {value!r}")
+
+
+def shown(app_page) -> dict:
+    """The panel as the page shows it: error image, caption and figures, read in one go."""
+    return app_page.page.evaluate(
+        """() => {
+            const img = document.querySelector('.phonglab-accuracy-error img');
+            const caption = document.querySelector('.phonglab-accuracy-render figcaption');
+            const figures = {};
+            for (const e of document.querySelectorAll('[data-figure]')) figures[e.dataset.figure] = e.innerText.trim();
+            return { error: img ? img.src : '', caption: caption ? caption.innerText : '', figures };
+        }"""
+    )
+
+
+def number(text: str) -> float:
+    return float(text.replace(" ms", ""))
+
+
+def test_accuracy_lesson_shows_the_plot_and_the_picked_error_images(app_page, new_tab):
+    page = app_page.page
+    other = new_tab()
+    assert not page.locator(".phonglab-accuracy").count(), "the accuracy panel shows on lesson 1"
+    app_page.open_lesson("Accuracy costs time")
+    assert app_page.state("accuracy_plot")["status"] == "measuring"
+    assert page.locator(".phonglab-accuracy-measuring").is_visible()
+    # while the plot is measured, another tab still gets its updates
+    before = other.readout()
+    other.set_state("lights_1__azimuth", "-40")
+    wait_for(lambda: other.readout()["dots"] != before["dots"], "the other tab's vectors to follow its light")
+    assert app_page.state("accuracy_plot")["status"] == "measuring", (
+        "the plot was ready before another tab's light moved: was the server busy with it?")
+    # the first pick follows the lesson's scene: Gouraud on 16 segments
+    first = wait_for(lambda: (s := shown(app_page))["error"].startswith("data:image/png") and s, "the error images")
+    assert "gouraud, 16 segments" in first["caption"], first["caption"]
+    assert set(first["figures"]) >= {"RMSE", "max error", "peak error", "time"}, first["figures"]
+    # the plot arrives
+    wait_for(lambda: app_page.state("accuracy_plot")["status"] != "measuring", "the accuracy plot", timeout=120)
+    assert app_page.state("accuracy_plot")["status"] == "ready", app_page.state("accuracy_plot")["error"]
+    plot = page.locator(PLOT)
+    assert plot.get_attribute("src").startswith("data:image/png;base64,")
+    assert page.evaluate(f"() => document.querySelector('{PLOT}').naturalWidth") > 500
+    # per pixel on 64 segments: a new error image, and a far smaller error
+    page.locator(".phonglab-accuracy-method-pixel").click()
+    page.locator(".phonglab-accuracy-resolution-64").click()
+    picked = wait_for(lambda: "pixel, 64 segments" in (s := shown(app_page))["caption"] and s,
+                      "the error images of per-pixel shading on 64 segments")
+    assert picked["error"] != first["error"], "the error image did not change"
+    assert picked["figures"] != first["figures"]
+    for name in ("RMSE", "peak error"):
+        assert number(picked["figures"][name]) < number(first["figures"][name]) / 5, (
+            f"{name}: per pixel on 64 segments {picked['figures'][name]}, Gouraud on 16 {first['figures'][name]}")
+
+
+@pytest.mark.parametrize("key, value_js, field", [
+    ("accuracy_resolution", "7", "accuracy.resolution"),
+    ("accuracy_resolution", "'16'", "accuracy.resolution"),
+    ("accuracy_method", "'phong'", "accuracy.method"),
+    ("accuracy_method", "null", "accuracy.method"),
+])
+def test_bad_picker_values_are_refused(app_page, key, value_js, field):
+    app_page.open_lesson("Accuracy costs time")
+    before = app_page.state(key)
+    app_page.set_state(key, value_js)
+    notice = wait_for(lambda: app_page.page.locator(".phonglab-notice").all_inner_texts(), "a refusal notice")
+    assert "Refused" in notice[0] and field in notice[0], f"{key} = {value_js}: notice {notice}"
+    wait_for(lambda: app_page.state(key) == before, f"{key} to return to {before!r}")

@@ -1,0 +1,216 @@
+"""The accuracy lesson's panel without a browser: checked picks, the images following the scene, the plot once."""
+
+from __future__ import annotations
+
+import base64
+import concurrent.futures
+import io
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from phonglab.accuracy import error_images
+from phonglab.app import accuracy_panel as panel
+from phonglab.app.lesson_app import LessonApp
+
+ACCURACY = """\
++++
+number = 11
+title = "Accuracy costs time"
+controls = ["interpolation", "geometry.resolution", "material.shininess"]
+interpolation = "gouraud"
+
+[geometry]
+kind = "sphere"
+resolution = 16
+
+[material]
+ka = 0.1
+kd = [0.8, 0.3, 0.2]
+ks = 0.8
+shininess = 200
+
+[[lights]]
+type = "ambient"
+intensity = 0.2
+
+[[lights]]
+type = "point"
+position = [2, 2.5, 3]
++++
+
+# Accuracy costs time
+"""
+
+OTHER = ACCURACY.replace("number = 11", "number = 1").replace('title = "Accuracy costs time"', 'title = "Sphere"')
+
+
+def inline(function, *args):
+    """Run the work here and now: a done Future (what the worker processes would give later)."""
+    future = concurrent.futures.Future()
+    try:
+        future.set_result(function(*args))
+    except Exception as exc:  # noqa: BLE001 - handed to the Future like a worker would
+        future.set_exception(exc)
+    return future
+
+
+@pytest.fixture
+def calls(monkeypatch):
+    """Work runs inline at 32 pixels; every submitted call is noted; the plot is a stand-in."""
+    made = []
+
+    def submit(function, *args):
+        made.append((function.__name__, args))
+        return inline(function, *args)
+
+    monkeypatch.setattr(panel, "submit", submit)
+    monkeypatch.setattr(panel, "IMAGE_SIZE", 32)
+    def stand_in_plot():
+        return "data:image/png;base64,cGxvdA=="
+
+    monkeypatch.setattr(panel, "plot_data_url", stand_in_plot)
+    monkeypatch.setattr(panel, "_plot", None)
+    return made
+
+
+@pytest.fixture
+def app(tmp_path, calls):
+    from trame.app import get_server
+
+    (tmp_path / "01-sphere.md").write_text(OTHER, encoding="utf-8")
+    (tmp_path / "11-accuracy.md").write_text(ACCURACY, encoding="utf-8")
+    server = get_server(f"test-accuracy-{tmp_path.name}", client_type="vue3")
+    application = LessonApp(server, target=tmp_path / "11-accuracy.md", export_dir=tmp_path / "exports")
+    yield application
+    application.close()
+
+
+def control(app, key, value) -> None:
+    """Set a control as the browser would, and run the panel refresh the app may have put off.
+
+    When a browser test ran earlier in this process, Playwright's event loop
+    counts as running and the app defers its panels to it.
+    """
+    app._on_control(key, value)
+    if app._panels_handle is not None:
+        app._panels_handle.cancel()
+        app._deferred_panels()
+
+
+def decode(url: str) -> np.ndarray:
+    assert url.startswith("data:image/png;base64,"), url[:40]
+    with Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))) as image:
+        return np.asarray(image.convert("RGB"))
+
+
+@pytest.mark.parametrize("value", [7, 16.5, "16", True, None, float("nan"), [16]])
+def test_bad_resolutions_are_refused_naming_the_value_and_the_choices(value):
+    with pytest.raises(ValueError, match=r"accuracy\.resolution: must be one of 8, 16, 32, 64, 128") as info:
+        panel.check_resolution(value)
+    assert repr(value) in str(info.value)
+
+
+@pytest.mark.parametrize("value", ["phong", "", None, 1, ["flat"]])
+def test_bad_methods_are_refused_naming_the_value_and_the_choices(value):
+    with pytest.raises(ValueError, match=r"accuracy\.method: must be one of flat, gouraud, pixel") as info:
+        panel.check_method(value)
+    assert repr(value) in str(info.value)
+
+
+def test_good_picks_pass_and_the_lesson_is_found_by_its_file_name():
+    assert panel.check_resolution(64) == 64 and panel.check_resolution(32.0) == 32
+    assert panel.check_method("pixel") == "pixel"
+    assert panel.is_accuracy_lesson("lessons/11-accuracy.md") and panel.is_accuracy_lesson("x/3-accuracy.md")
+    assert not panel.is_accuracy_lesson("lessons/08-interpolation.md")
+    assert not panel.is_accuracy_lesson("lessons/11-accuracy-notes.md")
+
+
+def test_error_panel_shows_the_error_images_and_their_figures(monkeypatch):
+    monkeypatch.setattr(panel, "IMAGE_SIZE", 32)
+    shown = panel.error_panel("gouraud", 16, 50.0)
+    exact = error_images("gouraud", 16, size=32, shininess=50.0)
+    for key in ("render", "reference", "error"):
+        assert np.array_equal(decode(shown[key]), getattr(exact, key)), f"{key} differs from error_images'"
+    assert decode(shown["scale"]).shape[1] == 256
+    assert shown["scale_labels"] == ["10⁻⁴", "10⁻³", "10⁻²", "10⁻¹", "1"]
+    figures = {f["name"]: f["value"] for f in shown["figures"]}
+    for name, value in (("RMSE", exact.rmse), ("max error", exact.max_error), ("peak error", exact.peak_error)):
+        assert float(figures[name]) == pytest.approx(value, rel=5e-3), (name, figures[name], value)
+    assert figures["time"].endswith(" ms") and float(figures["time"][:-3]) > 0, figures
+
+
+def test_the_panel_shows_on_the_accuracy_lesson_only_and_follows_its_scene(app, calls):
+    s = app.state
+    assert s.accuracy and s.accuracy_plot == {"status": "ready", "src": "data:image/png;base64,cGxvdA==", "error": ""}
+    assert (s.accuracy_method, s.accuracy_resolution) == ("gouraud", 16)
+    assert (s.accuracy_view["method"], s.accuracy_view["resolution"], s.accuracy_view["shininess"]) == ("gouraud", 16, 200)
+    assert not s.accuracy_busy
+    # an experiment (interpolation and resolution) moves the picker; α moves the images
+    control(app, "interpolation", "pixel")
+    assert (s.accuracy_method, s.accuracy_view["method"]) == ("pixel", "pixel")
+    control(app, "material__shininess__log", 1.0)
+    assert s.accuracy_view["shininess"] == pytest.approx(10.0), s.accuracy_view["shininess"]
+    # a resolution the picker does not offer leaves the pick alone
+    control(app, "geometry__resolution", 20.0)
+    assert s.accuracy_resolution == 16 and s.accuracy_view["resolution"] == 16
+    # the picker itself; the same pick twice computes once
+    count = len(calls)
+    s.accuracy_resolution = 64
+    app.accuracy._on_pick("accuracy_resolution", panel.check_resolution)
+    app.accuracy._on_pick("accuracy_resolution", panel.check_resolution)
+    assert s.accuracy_view["resolution"] == 64 and len(calls) == count + 1, calls[count:]
+    # another lesson hides the panel and asks for nothing
+    app.open_lesson(0)
+    assert not s.accuracy and len(calls) == count + 1
+
+
+def test_bad_picks_are_refused_visibly_and_the_previous_value_stays(app):
+    s = app.state
+    shown = s.accuracy_view
+    for key, check, bad in (("accuracy_resolution", panel.check_resolution, 7),
+                            ("accuracy_method", panel.check_method, "phong")):
+        before = s[key]
+        s[key] = bad
+        app.accuracy._on_pick(key, check)
+        assert s.notice["kind"] == "error" and "Refused" in s.notice["text"] and repr(bad) in s.notice["text"], s.notice
+        assert s[key] == before, f"{key} kept the refused {bad!r}"
+        assert s.accuracy_view is shown
+
+
+def test_the_plot_is_measured_once_per_process_and_again_after_a_failure(app, calls, monkeypatch, tmp_path):
+    from trame.app import get_server
+
+    plots = [name for name, _ in calls if name == "stand_in_plot"]
+    assert len(plots) == 1
+    other = LessonApp(get_server(f"test-accuracy-2-{tmp_path.name}", client_type="vue3"),
+                      target=tmp_path / "11-accuracy.md", export_dir=tmp_path / "exports")
+    try:
+        assert other.state.accuracy_plot["status"] == "ready"
+        assert [name for name, _ in calls if name == "stand_in_plot"] == plots, "a second tab measured the plot again"
+    finally:
+        other.close()
+
+    def broken():
+        raise RuntimeError("matplotlib is missing")
+
+    monkeypatch.setattr(panel, "_plot", None)
+    monkeypatch.setattr(panel, "plot_data_url", broken)
+    app.open_lesson(1)
+    assert app.state.accuracy_plot["status"] == "failed" and "matplotlib is missing" in app.state.accuracy_plot["error"]
+    monkeypatch.setattr(panel, "plot_data_url", lambda: "data:image/png;base64,YWdhaW4=")
+    app.open_lesson(1)
+    assert app.state.accuracy_plot == {"status": "ready", "src": "data:image/png;base64,YWdhaW4=", "error": ""}
+
+
+def test_the_worker_processes_run_the_work_and_stop():
+    try:
+        future = panel.submit(panel.check_resolution, 32)
+        assert future.result(timeout=60) == 32
+        failing = panel.submit(panel.check_method, "phong")
+        with pytest.raises(ValueError, match="accuracy.method"):
+            failing.result(timeout=60)
+    finally:
+        panel.shutdown()
+    assert panel._pool is None
