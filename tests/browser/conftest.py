@@ -109,7 +109,15 @@ LESSONS = {
 
         # A spotlight on a floor
 
-        The spot factor is $\\cos^e\\theta$ inside the cone.
+        The spot factor is $\\cos^e\\theta$ inside the cone. With attenuation,
+
+        $$I = \\frac{\\cos^e\\theta}{a + b\\,d + c\\,d^2} \\left[k_d I_d \\max(0, n\\cdot l) + k_s I_s (r\\cdot v)^{\\alpha}\\right],$$
+
+        and the light a point receives from the whole hemisphere is
+
+        $$L_o(\\mathbf{x}, \\omega_o) = L_e(\\mathbf{x}, \\omega_o) + \\int_{\\Omega} f_r(\\mathbf{x}, \\omega_i, \\omega_o)\\, L_i(\\mathbf{x}, \\omega_i)\\, (\\omega_i \\cdot \\mathbf{n})\\, d\\omega_i + \\sum_{j=1}^{N} \\frac{\\Phi_j \\cos\\theta_j}{4\\pi d_j^2}.$$
+
+        The cone's edge is at $\\theta = $ cutoff.
         """,
     "03-broken.md": """
         +++

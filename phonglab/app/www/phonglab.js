@@ -77,3 +77,58 @@ window.phonglab = {
     if (moved > 4) event.stopPropagation();
   }, true);
 })();
+
+// Display formulas (.math-block) live in a narrow text column. One wider than
+// its column is scaled down to fit, but not below MIN_SCALE of its size (the
+// indices would become unreadable); what is still too wide scrolls sideways
+// within its block, with a fade at the edge where more of it is hidden.
+(function () {
+  const MIN_SCALE = 0.8;
+
+  function fit(block) {
+    const math = block.querySelector(":scope > math");
+    if (!math) return;
+    block.style.removeProperty("--math-scale");
+    const room = block.clientWidth;
+    let natural = math.scrollWidth;
+    if (!room || !natural) return;
+    let scale = 1;
+    // MathML does not scale exactly with the font size: correct twice at most
+    for (let i = 0; i < 3 && natural > room && scale > MIN_SCALE; i++) {
+      scale = Math.max(MIN_SCALE, scale * room / natural);
+      block.style.setProperty("--math-scale", scale.toFixed(4));
+      natural = math.scrollWidth;
+    }
+    edges(block);
+  }
+
+  // fades on the sides where part of the formula is scrolled out of sight
+  function edges(block) {
+    const hidden = block.scrollWidth - block.clientWidth;
+    block.classList.toggle("math-more-right", hidden > 1 && block.scrollLeft < hidden - 1);
+    block.classList.toggle("math-more-left", hidden > 1 && block.scrollLeft > 1);
+  }
+
+  let pending = false;
+  function fitAll() {
+    if (pending) return;
+    pending = true;
+    requestAnimationFrame(() => {
+      pending = false;
+      document.querySelectorAll(".math-block").forEach(fit);
+    });
+  }
+
+  const holdsFormula = (node) =>
+    node.nodeType === 1 && (node.matches(".math-block") || node.querySelector(".math-block"));
+  new MutationObserver((records) => {
+    if (records.some((r) => Array.from(r.addedNodes).some(holdsFormula))) fitAll();
+  }).observe(document.documentElement, { childList: true, subtree: true });
+  // the columns change width with the window (and the grid)
+  new ResizeObserver(fitAll).observe(document.documentElement);
+  window.addEventListener("resize", fitAll);
+  document.addEventListener("scroll", (event) => {
+    if (event.target.classList && event.target.classList.contains("math-block")) edges(event.target);
+  }, true);
+  window.phonglabFitMath = fitAll;
+})();
