@@ -75,3 +75,30 @@ def test_install_twice_wraps_once():
     sync.install()
     assert SERIALIZERS["vtkPolyData"] is first
     assert not getattr(first.__wrapped__, "_phonglab_remembering", False)
+
+
+def test_the_mesh_goes_to_the_browser_without_its_normals(view):
+    from phonglab.app.client import dataset_id
+
+    # the browser draws with lighting off: it gets points, triangles and colours only
+    _, state, _ = serialize_twice(view.render_window, remembering=True)
+    mesh_id = dataset_id(view.mesh_actor.GetMapper())
+
+    def find(node):
+        if isinstance(node, dict):
+            if node.get("id") == mesh_id:
+                return node
+            node = list(node.values())
+        if isinstance(node, list):
+            for item in node:
+                found = find(item)
+                if found is not None:
+                    return found
+        return None
+
+    mesh = find(state)
+    assert mesh is not None, f"no dataset {mesh_id} in the serialised window"
+    names = [field["name"] for field in mesh["properties"]["fields"]]
+    assert names == [COLOR_ARRAY], f"the mesh sends {names}"
+    # the server keeps the normals for the core's shading
+    assert view.mesh.point_data["Normals"].shape == (view.mesh.n_points, 3)

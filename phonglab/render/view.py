@@ -14,7 +14,9 @@ What the window holds:
 
 Every actor has lighting off and carries its colours in a point or cell
 array, so the geometry and colours are all a browser needs (trame-vtk's
-local view). :meth:`SceneView.update` changes arrays in place: moving a slider
+local view). The mesh keeps its point normals in the ``"Normals"`` array for
+the core's shading, but not as VTK's normals attribute, so a browser's copy
+is sent without them. :meth:`SceneView.update` changes arrays in place: moving a slider
 never adds an actor.
 
 A lesson's common mistake (:data:`phonglab.teaching.MISTAKES`) can be shown
@@ -265,6 +267,9 @@ class SceneView:
 
     def _set_mesh(self, mesh: pv.PolyData) -> None:
         """Show a new mesh (geometry changed): colour arrays sized for it."""
+        # lighting is off, so nothing draws with the normals: stop them being the
+        # normals attribute (a browser's copy would receive them), keep the array
+        mesh.GetPointData().SetActiveAttribute(-1, vtk.vtkDataSetAttributes.NORMALS)
         mesh.point_data[glyphs.COLOR_ARRAY] = np.zeros((mesh.n_points, 3), np.uint8)
         mesh.cell_data[glyphs.COLOR_ARRAY] = np.zeros((mesh.n_cells, 3), np.uint8)
         mesh.point_data.active_scalars_name = glyphs.COLOR_ARRAY
