@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -348,3 +349,52 @@ def test_ray_hit_finds_the_first_surface_point_or_none(view):
     assert view.ray_hit((0.0, 0.0, 4.0), (3.0, 0.0, 4.0)) is None
     with pytest.raises(ValueError, match="origin"):
         view.ray_hit((0.0, float("inf"), 4.0), (0, 0, 0))
+
+
+def floor_under_a_panel(**changes) -> Scene:
+    """A floor lit only by a warm 0.8 × 0.6 ceiling panel at height 1.2, shining down."""
+    from phonglab.scene.model import AreaLightSetup
+
+    scene = Scene(
+        geometry=Geometry("plane", 8),
+        material=pl.Material(ka=0.1, kd=0.8, ks=0.0, shininess=10),
+        lights=(pl.AmbientLight(intensity=0.1),),
+        camera=Camera(eye=(0.0, -3.0, 0.6), focal_point=(0.0, 0.0, 0.6), up=(0.0, 0.0, 1.0)),
+        area_light=AreaLightSetup(pl.AreaLight(position=(0.0, 0.0, 1.2), edge_u=(0.8, 0.0, 0.0),
+                                               edge_v=(0.0, -0.6, 0.0), color=(1.0, 0.8, 0.4))),
+    )
+    for path, value in changes.items():
+        scene = scene.replace(path.replace("__", "."), value)
+    return scene
+
+
+def test_an_area_light_is_drawn_as_a_flat_panel_where_it_is():
+    scene = floor_under_a_panel()
+    view = SceneView(scene, size=SIZE, vectors="")
+    try:
+        data, actor = view._area_panel
+        assert actor.GetVisibility() and not actor.GetProperty().GetLighting()
+        points = np.asarray(data.GetPoints().GetData())
+        colours = np.asarray(data.GetPointData().GetArray("rgb"))
+        # the emitting face is the light's rectangle, in its colour at full brightness; the rest lies behind it
+        lit = np.all(colours == (255, 204, 102), axis=1)
+        corners = sorted(tuple(np.round(p, 9)) for p in points[lit])
+        assert corners == sorted((x, y, 1.2) for x in (-0.4, 0.4) for y in (-0.3, 0.3)), points[lit]
+        assert np.all(colours[~lit] == (72, 74, 82)), colours[~lit]
+        assert np.all((points[:, 2] >= 1.2 - 1e-9) & (points[:, 2] <= 1.2 + 0.03 * 0.8 + 1e-9)), points
+        assert np.ptp(points[:, 2]) == pytest.approx(0.03 * 0.8), "the panel is not as thick as it should be"
+        # seen from below the panel's plane, its centre shows the flat light colour
+        image = view.screenshot(annotate=False)
+        x, y = view._to_image((0.0, 0.0, 1.2), SIZE[1])
+        assert tuple(image[int(round(y)), int(round(x))]) == (255, 204, 102), (x, y, image[int(round(y)), int(round(x))])
+        # moving the light moves the panel, in place; the shading follows
+        before_props, before_colours = len(props(view)), np.array(view.colour_array().values)
+        view.update(scene.replace("area_light.position", [0.3, 0.0, 1.0]))
+        moved = np.asarray(view._area_panel[0].GetPoints().GetData())
+        assert np.allclose(moved.mean(axis=0)[:2], (0.3, 0.0), atol=1e-9) and len(props(view)) == before_props
+        assert not np.array_equal(view.colour_array().values, before_colours), "the floor's shading ignored the move"
+        # no area light, no panel
+        view.update(dataclasses.replace(scene, area_light=None))
+        assert not actor.GetVisibility()
+    finally:
+        view.close()

@@ -944,7 +944,7 @@ def _finite3(p):
 
 def _changed(old, new) -> set:
     """The scene's top-level fields that differ."""
-    names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe")
+    names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light")
     return {name for name in names if getattr(old, name) != getattr(new, name)}
 
 

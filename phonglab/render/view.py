@@ -9,6 +9,8 @@ What the window holds:
 * a marker per light (a sphere for a point light, a cone for a spotlight,
   three parallel arrows for a directional light) and an eye marker (shown
   only when the VTK camera has left the scene's eye);
+* the scene's area light, if it has one, as a thin panel whose emitting face
+  is drawn flat in the light's colour (:func:`area_light_panel`);
 * optionally VTK text: a letter at every arrow tip and a legend (for
   server-side rendering; vtk.js does not draw these, see :meth:`SceneView.legend`).
 
@@ -62,6 +64,10 @@ EYE_MARKER_MIN_DISTANCE = 0.5
 MAX_VIEW_ANGLE = 120.0
 #: free border around the arrows and their letters, as a fraction of the window's shorter side
 FRAME_PAD = 0.02
+#: thickness of the area light's panel, as a fraction of its longer edge
+AREA_PANEL_THICKNESS = 0.03
+#: colour of the area light panel's back and sides (RGB 0-255): it emits from its front face only
+AREA_PANEL_BACK = (72, 74, 82)
 
 
 def _array_to_vtk_in_place(owner, name: str, values: np.ndarray) -> None:
@@ -80,6 +86,41 @@ def default_probe(mesh: pv.PolyData, camera) -> tuple[np.ndarray, np.ndarray]:
     """
     hit = ray_hit(mesh, camera.eye, camera.focal_point)
     return hit if hit is not None else surface_point(mesh, camera.eye)
+
+
+def area_light_panel(light) -> pv.PolyData:
+    """A thin box showing a :class:`phonglab.core.AreaLight` where it is.
+
+    The emitting face is the light's rectangle itself (corners
+    ``position ± edge_u/2 ± edge_v/2``), flat in the light's colour
+    brightened to full (:func:`~phonglab.render.glyphs.light_color_255`); the
+    box extends :data:`AREA_PANEL_THICKNESS` of the longer edge behind it
+    (against the light's normal), and its back and sides are dark grey
+    (:data:`AREA_PANEL_BACK`), since the light shines from its front only.
+
+    Returns
+    -------
+    pyvista.PolyData
+        24 points (4 per face, so each face has its own colour), 12 triangles,
+        uint8 RGB in the point array ``"rgb"``.
+    """
+    centre = np.asarray(light.position, dtype=np.float64)
+    u = np.asarray(light.edge_u, dtype=np.float64) / 2
+    v = np.asarray(light.edge_v, dtype=np.float64) / 2
+    depth = -light.normal * AREA_PANEL_THICKNESS * 2 * max(np.linalg.norm(u), np.linalg.norm(v))
+    front = [centre - u - v, centre + u - v, centre + u + v, centre - u + v]
+    back = [corner + depth for corner in front]
+    faces = [front, back[::-1]] + [[front[i], back[i], back[(i + 1) % 4], front[(i + 1) % 4]] for i in range(4)]
+    points = np.array([corner for face in faces for corner in face])
+    triangles = []
+    for f in range(len(faces)):
+        a, b, c, d = 4 * f, 4 * f + 1, 4 * f + 2, 4 * f + 3
+        triangles += [3, a, b, c, 3, a, c, d]
+    panel = pv.PolyData(points, faces=np.array(triangles))
+    colours = np.tile(np.asarray(AREA_PANEL_BACK, dtype=np.uint8), (len(points), 1))
+    colours[:4] = glyphs.light_color_255(light)
+    panel.point_data[glyphs.COLOR_ARRAY] = colours
+    return panel
 
 
 class ColourArray(NamedTuple):
@@ -214,6 +255,8 @@ class SceneView:
         self._light_markers = []
         eye_data = pv.PolyData()
         self._eye = (eye_data, self._glyph_actor(eye_data))
+        area_data = pv.PolyData()
+        self._area_panel = (area_data, self._glyph_actor(area_data))
         self._directions = {}
         self._legend_actor = self._make_legend_actor() if vtk_text else None
 
@@ -223,6 +266,7 @@ class SceneView:
         self._update_vectors()
         self._update_light_markers()
         self._update_eye_marker()
+        self._update_area_panel()
 
     # ------------------------------------------------------------------
     # building blocks
@@ -326,7 +370,8 @@ class SceneView:
         old, self.scene = self.scene, scene
         changed = {
             name
-            for name in ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe")
+            for name in ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe",
+                         "area_light")
             if getattr(old, name) != getattr(scene, name)
         }
         if not changed:
@@ -336,7 +381,7 @@ class SceneView:
         if "camera" in changed:
             set_camera(self.renderer.GetActiveCamera(), scene.camera)
             self._gbuffer_cache = None
-        if changed & {"geometry", "material", "lights", "camera", "model", "interpolation", "two_sided"}:
+        if changed & {"geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "area_light"}:
             self._recolor()
         if changed & {"geometry", "probe"} or ("camera" in changed and scene.probe is None):
             self._locate_probe()
@@ -346,6 +391,8 @@ class SceneView:
             self._update_light_markers()
         if "camera" in changed:
             self._update_eye_marker()
+        if "area_light" in changed:
+            self._update_area_panel()
 
     def set_probe(self, point) -> None:
         """Move the probe to the surface point nearest ``point`` (None: the default probe)."""
@@ -708,6 +755,15 @@ class SceneView:
                 data.ShallowCopy(marker)
                 data.Modified()
             actor.SetVisibility(marker is not None and self.show_markers)
+
+    def _update_area_panel(self) -> None:
+        """The area light's panel where the scene puts it (hidden without an area light)."""
+        data, actor = self._area_panel
+        area = self.scene.area_light
+        if area is not None:
+            data.ShallowCopy(area_light_panel(area.light))
+            data.Modified()
+        actor.SetVisibility(bool(area is not None and self.show_markers))
 
     def _update_eye_marker(self) -> None:
         camera = self.scene.camera
