@@ -89,3 +89,60 @@ def test_free_ports_are_bindable_on_loopback():
     port = ui.free_port()
     with socket.socket() as s:
         s.bind(("127.0.0.1", port))
+
+
+@pytest.mark.parametrize("whole_group", [True, False])
+def test_sigterm_stops_the_server_while_the_accuracy_plot_is_measured(whole_group):
+    # lesson 11 starts worker processes; a SIGTERM to the server, or to its whole
+    # process group (docker stop, kill -- -PGID), must end it and its workers promptly
+    import os
+    import signal
+    import time
+
+    port = ui.free_port()
+    proc = subprocess.Popen([sys.executable, "-m", "phonglab.cli", "serve", "lessons/11-accuracy.md", "--port",
+                             str(port)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            start_new_session=True)
+    try:
+        assert "serving" in proc.stdout.readline(), "the server did not start"
+        deadline = time.monotonic() + 60
+        while not _children(proc.pid) and time.monotonic() < deadline:
+            time.sleep(0.2)  # the plot's workers start with the lesson
+        workers = _children(proc.pid)
+        assert workers, "lesson 11 should start its worker processes"
+        time.sleep(3)  # let the workers take up the measurement: the hang needed work in flight
+        (os.killpg if whole_group else os.kill)(proc.pid, signal.SIGTERM)
+        status = proc.wait(timeout=20)
+        assert status == 0, (whole_group, status)
+        time.sleep(0.5)
+        alive = [pid for pid in workers if _alive(pid)]
+        assert not alive, (whole_group, "workers left running", alive)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def _children(pid):
+    from pathlib import Path
+
+    found = []
+    for status in Path("/proc").glob("[0-9]*/status"):
+        try:
+            fields = dict(line.split(":\t", 1) for line in status.read_text().splitlines() if ":\t" in line)
+        except OSError:
+            continue
+        if fields.get("PPid", "").strip() == str(pid):
+            found.append(int(status.parent.name))
+    return found
+
+
+def _alive(pid):
+    import os
+
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    state = open(f"/proc/{pid}/stat").read().split(") ", 1)[1][0]
+    return state != "Z"

@@ -30,6 +30,7 @@ import io
 import logging
 import math
 import multiprocessing
+import contextlib
 import signal
 import tempfile
 import threading
@@ -220,14 +221,30 @@ def forget_plot(future) -> None:
             _plot = None
 
 
+#: how long stopping waits for the pool's own clean-up before leaving it to exit
+SHUTDOWN_WAIT = 2.0
+
+
 def shutdown() -> None:
-    """Stop the worker processes at once (work in progress is dropped)."""
+    """Stop the worker processes at once (work in progress is dropped).
+
+    A signal to the whole process group (``docker stop``, ``kill -- -PGID``)
+    may already have killed the workers, and ``Pool.terminate`` can then wait
+    for ever on results that never come. So the workers left are killed
+    outright and the pool's own clean-up gets :data:`SHUTDOWN_WAIT` seconds
+    in a daemon thread: stopping the server never hangs.
+    """
     global _pool, _plot
     with _lock:
         pool, _pool, _plot = _pool, None, None
-    if pool is not None:
-        pool.terminate()
-        pool.join()
+    if pool is None:
+        return
+    for worker in list(getattr(pool, "_pool", ())):
+        with contextlib.suppress(Exception):
+            worker.kill()
+    cleanup = threading.Thread(target=pool.terminate, name="accuracy-pool-stop", daemon=True)
+    cleanup.start()
+    cleanup.join(SHUTDOWN_WAIT)
 
 
 # ---------------------------------------------------------------------------
