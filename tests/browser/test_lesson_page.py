@@ -16,22 +16,11 @@ import urllib.request
 
 import numpy as np
 import pytest
+from waiting import wait_for
 
 #: the first lesson's light and eye (see conftest.LESSONS)
 LIGHT = np.array([2.0, 2.5, 3.0])
 EYE = np.array([0.0, 0.0, 4.0])
-
-
-def wait_for(predicate, what, timeout=20.0):
-    """Poll ``predicate()`` until it is truthy; fail naming ``what`` and the last value."""
-    deadline = time.monotonic() + timeout
-    value = None
-    while time.monotonic() < deadline:
-        value = predicate()
-        if value:
-            return value
-        time.sleep(0.1)
-    pytest.fail(f"timed out after {timeout:.0f} s waiting for {what}; last value: {value!r}")
 
 
 def expected_dots(point):
