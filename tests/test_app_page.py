@@ -244,3 +244,31 @@ def test_the_mistake_switch_goes_through_the_view_and_says_when_it_cannot_show(m
     assert app.view.mistake is None and app.state.pixel_src != wrong, "switching the mistake off kept the picture"
     app._on_control("view__mistake", True)
     assert app.state.pixel_src == wrong, "the same mistake twice gave two pictures"
+
+
+def test_every_course_lesson_opens_in_the_app_and_its_experiments_apply(tmp_path):
+    # the real lessons/ folder, as `phonglab serve` shows it
+    from pathlib import Path
+
+    from trame.app import get_server
+
+    folder = Path(__file__).resolve().parents[1] / "lessons"
+    server = get_server(f"test-course-{tmp_path.name}", client_type="vue3")
+    app = LessonApp(server, target=folder, export_dir=tmp_path / "exports")
+    try:
+        assert len(app.entries) >= 10 and all(e.ok for e in app.entries), [(e.title, e.errors) for e in app.entries]
+        for index, entry in enumerate(app.entries):
+            app.open_lesson(index)
+            s = app.state
+            where = f"lesson {entry.number} {entry.title!r}"
+            assert s.lesson_title == entry.title and not s.lesson_errors, (where, s.lesson_errors)
+            assert "<math" in s.lesson_html and "$" not in s.lesson_html, where
+            colours = np.array(app.view.mesh.point_data[COLOR_ARRAY])
+            assert colours.size and colours.max() > 0, (where, "the mesh is black")
+            for k, experiment in enumerate(entry.lesson.experiments):
+                before = app.scene
+                app.apply_experiment(k)
+                assert s.notice["kind"] != "error", (where, experiment.label, s.notice)
+                assert app.scene == before.replace_many(experiment.settings), (where, experiment.label)
+    finally:
+        app.close()
