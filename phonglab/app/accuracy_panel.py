@@ -24,6 +24,7 @@ processes import it to run :func:`plot_data_url` and :func:`error_panel`.
 from __future__ import annotations
 
 import asyncio
+import atexit
 import base64
 import concurrent.futures
 import io
@@ -197,6 +198,8 @@ def submit(function, *args) -> concurrent.futures.Future:
     with _lock:
         if _pool is None:
             _pool = multiprocessing.get_context("spawn").Pool(WORKERS, initializer=_ignore_interrupts)
+            # any process that started workers stops them before it exits, not in Pool.__del__
+            atexit.register(shutdown)
         _pool.apply_async(function, args, callback=future.set_result, error_callback=future.set_exception)
     return future
 
