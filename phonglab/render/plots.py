@@ -263,6 +263,7 @@ def _probe_vectors(scene):
     """(point, normal, ProbeVectors) at the scene's probe for its first directed light, or None."""
     from phonglab.render.mesh import build_mesh, surface_point
     from phonglab.render.view import default_probe
+    from phonglab.scene import viewer
 
     light = next((x for x in scene.lights if not isinstance(x, core.AmbientLight)), None)
     if light is None:
@@ -272,9 +273,7 @@ def _probe_vectors(scene):
         point, normal = default_probe(mesh, scene.camera)
     else:
         point, normal = surface_point(mesh, scene.probe)
-    camera = scene.camera
-    viewer = {"view_direction": camera.view_direction} if camera.infinite_viewer else {"eye": camera.eye}
-    vec = core.vectors(point, normal, light=light, two_sided=scene.two_sided, **viewer)
+    vec = core.vectors(point, normal, light=light, two_sided=scene.two_sided, **viewer(scene))
     return point, normal, vec
 
 

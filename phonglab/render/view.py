@@ -50,6 +50,7 @@ import vtk
 from PIL import Image
 
 from phonglab import core
+from phonglab.scene import viewer
 from phonglab.render import _files, glyphs, shading
 from phonglab.render._vtk import eye_distance, make_render_window, read_depth, read_rgb, set_camera
 from phonglab.render.annotate import draw_labels, draw_legend, font
@@ -351,13 +352,6 @@ class SceneView:
         """The core's ``ProbeVectors`` at the probe, or None without a directed light."""
         return self._vectors
 
-    def _viewer(self) -> dict:
-        """The core's viewer keyword: ``eye=`` or ``view_direction=`` (infinite viewer)."""
-        camera = self.scene.camera
-        if camera.infinite_viewer:
-            return {"view_direction": camera.view_direction}
-        return {"eye": camera.eye}
-
     # ------------------------------------------------------------------
     # updates
 
@@ -598,7 +592,7 @@ class SceneView:
         point, normal = self._probe_point, self._probe_normal
         if index is not None:
             self._vectors = core.vectors(
-                point, normal, light=self.scene.lights[index], two_sided=self.scene.two_sided, **self._viewer()
+                point, normal, light=self.scene.lights[index], two_sided=self.scene.two_sided, **viewer(self.scene)
             )
             directions = {"N": self._vectors.n, "L": self._vectors.l, "R": self._vectors.r,
                           "V": self._vectors.v, "H": self._vectors.h}

@@ -37,7 +37,7 @@ from phonglab.scene.fieldpath import (
     parse_value,
     scene_to_dict,
 )
-from phonglab.scene.planner import ScenePlan, plan, shade
+from phonglab.scene.planner import ScenePlan, plan, shade, viewer
 
 __all__ = [
     "Camera",
@@ -48,6 +48,7 @@ __all__ = [
     "SceneError",
     "SceneErrors",
     "ScenePlan",
+    "viewer",
     "GEOMETRY_KINDS",
     "INTERPOLATIONS",
     "MODELS",

@@ -432,7 +432,7 @@ def shade_scene(scene, points, normals, mistake: str | None = None):
     phonglab.core.Shading
     """
     from phonglab import scene as scene_module  # scenes are optional here: imported on use
-    from phonglab.scene.planner import viewer
+    from phonglab.scene import viewer
 
     if mistake is None:
         return scene_module.shade(scene, points, normals)
