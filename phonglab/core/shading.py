@@ -490,7 +490,7 @@ def _attenuation_factor(dist, coeffs, dtype):
 
 
 def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out):
-    """Shade one block of points, writing the (n, 3) diffuse and specular views.
+    """Shade one block of points, writing the (3, n) diffuse and specular blocks.
 
     Vectors are held components first, (3, n), so every component is one
     contiguous row; the sums over lights go straight into the outputs.
@@ -571,19 +571,20 @@ def _specular_power(n, l, v, nl, lit, item, const, model, v_zero, v_len):
         a -= np.add(l, v) if lv is None else lv
         d = dot_c(a, a)
         d *= dtype.type(0.5)
-        b, b_zero = v, v_zero
+        h_zero = False
     else:
-        b = item.get("h")
-        b_zero = item.get("h_zero", False)
-        if b is None:
-            b, h_len = normalize_c(np.add(l, v))
-            b_zero = h_len.min() == 0  # l = −v: no half vector
-        d = one_minus_cos_c(n, b)
+        h = item.get("h")
+        h_zero = item.get("h_zero", False)
+        if h is None:
+            h, h_len = normalize_c(np.add(l, v))
+            h_zero = h_len.min() == 0
+        d = one_minus_cos_c(n, h)
     lit &= d < 1
-    if b_zero:  # a zero v or h gives d = 1/2: gate it out explicitly
-        lit &= dot_c(b, b) > zero
-    if v_zero and model != "phong":  # h = l where v = 0: still no viewer
+    # a zero v or h gives d = 1/2, not 1: gate those points out explicitly
+    if v_zero:  # the eye on the point: no viewer, no highlight
         lit &= v_len > zero
+    if h_zero:  # l = −v: no half vector
+        lit &= dot_c(h, h) > zero
     return cos_power(d, lit, const.shininess)
 
 
