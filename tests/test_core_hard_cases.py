@@ -280,3 +280,50 @@ def test_normalize_of_a_vector_does_not_depend_on_its_neighbours(dtype):
     mixed = pl.normalize(np.concatenate([ordinary, extreme]))
     np.testing.assert_array_equal(mixed[:2], alone)
     np.testing.assert_array_equal(mixed[2], [1, 0, 0])
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize("alpha", [1, 2, 3, 7, 40, 64, 100, 127, pl.core.SQUARING_MAX])
+def test_integer_shininess_by_squaring_stays_within_2_alpha_ulps(dtype, alpha):
+    # repeated squaring of 1 − d: the rounding of 1 − d and of each product grow like α ulps
+    from phonglab.core.vectors import cos_power
+
+    eps = np.finfo(dtype).eps
+    d = np.concatenate([np.geomspace(1e-12, 0.999, 400), [0.0, eps / 4, eps, 0.5]]).astype(dtype)
+    got = cos_power(d.copy(), np.ones(d.shape, bool), alpha)
+    ref = np.array([float((1 - mpmath.mpf(float(x))) ** alpha) for x in d])
+    big = ref > np.finfo(dtype).tiny / eps  # away from gradual underflow
+    rel = np.abs(got[big] - ref[big]) / ref[big]
+    worst = int(rel.argmax())
+    assert got.dtype == dtype
+    assert rel.max() <= 2 * alpha * eps, (dtype, alpha, float(d[big][worst]), float(got[big][worst]), ref[big][worst])
+    assert got[d == 0].tolist() == [1.0], (dtype, alpha)
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+def test_squaring_and_exp_log_agree_at_the_switch(dtype):
+    # α = SQUARING_MAX is squared, α + 0.5 and α + 1 go through exp/log: the lobes are continuous
+    from phonglab.core.vectors import SQUARING_MAX, cos_power
+
+    d = np.geomspace(1e-9, 0.05, 300).astype(dtype)
+    lit = np.ones(d.shape, bool)
+    a, b = SQUARING_MAX, SQUARING_MAX + 1
+    squared = cos_power(d.copy(), lit, a)
+    via_log = cos_power(d.copy(), lit, a + 1e-9 * a)  # not an integer: exp/log, same power to 1e-9
+    np.testing.assert_allclose(squared, via_log, rtol=2 * a * np.finfo(dtype).eps + 1e-7,
+                               err_msg=f"{dtype.__name__} α={a}")
+    # one step above the switch, the power still falls by the factor (1 − d)
+    above = cos_power(d.copy(), lit, b)
+    np.testing.assert_allclose(above, squared * (1 - d.astype(float)), rtol=2 * b * np.finfo(dtype).eps + 1e-7,
+                               err_msg=f"{dtype.__name__} α={b}")
+
+
+@pytest.mark.parametrize("alpha", [0, 1, 2, 40, 128, 40.5, 1e6])
+def test_power_is_exactly_zero_where_unlit_or_cos_not_positive(alpha):
+    from phonglab.core.vectors import cos_power
+
+    d = np.array([0.0, 1e-7, 1.0, 1.5, 2.0, 0.2])
+    lit = np.array([True, True, True, True, True, False])
+    got = cos_power(d.copy(), lit, alpha)
+    assert got[2:].tolist() == [0.0, 0.0, 0.0, 0.0], (alpha, got)  # cos ≤ 0, or n·l ≤ 0
+    assert got[0] == 1.0 and 0 < got[1] <= 1, (alpha, got)

@@ -98,6 +98,42 @@ def test_shade_nan_reports_where():
     refused(lambda: pl.shade(pts, pts, eye=(0, 0, 4), material=MAT, lights=[LIGHT]), "points", "(7, 1)", "finite")
 
 
+@pytest.mark.parametrize("bad", [NAN, INF, -INF])
+@pytest.mark.parametrize("where", [0, 5, 70_000])  # first block, a later entry, a later block
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_shade_refuses_nonfinite_normals_wherever_they_sit(bad, where, dtype):
+    # the finiteness check rides on the normalisation's range test: every block must trip it
+    rng = np.random.default_rng(where)
+    normals = rng.normal(size=(80_000, 3)).astype(dtype)
+    normals[3] = 0  # a zero normal (allowed) in the first block runs the explicit check early
+    normals[where, 2] = bad
+    for view in (dict(eye=(0, 0, 4)), dict(view_direction=(0, 0, 1))):
+        for light in (LIGHT, pl.DirectionalLight(direction=(1, 1, 1))):
+            refused(lambda: pl.shade(normals, normals, material=MAT, lights=[light], **view),
+                    "normals" if "view_direction" in view and light is not LIGHT else "points",
+                    f"({where}, 2)", "finite")
+
+
+@pytest.mark.parametrize("bad", [NAN, INF])
+def test_shade_refuses_nonfinite_points_where_they_are_read(bad):
+    pts = np.zeros((50_000, 3), np.float32)
+    nrm = np.tile(np.float32([0, 0, 1]), (50_000, 1))
+    pts[40_000, 0] = bad
+    for kw in (dict(eye=(0, 0, 4), lights=[pl.DirectionalLight(direction=(0, 0, 1))]),  # the local viewer reads them
+               dict(view_direction=(0, 0, 1), lights=[LIGHT])):  # the point light reads them
+        refused(lambda: pl.shade(pts, nrm, material=MAT, **kw), "points", "(40000, 0)", "finite")
+
+
+def test_points_are_not_read_by_directional_lights_and_an_infinite_viewer():
+    # L and V are the same at every point: the positions never enter the sum (documented in shade)
+    pts = np.full((4, 3), NAN)
+    nrm = np.tile([0.0, 0.0, 1.0], (4, 1))
+    s = pl.shade(pts, nrm, view_direction=(0, 0, 1), material=MAT, lights=[pl.DirectionalLight(direction=(0, 1, 1))])
+    ref = pl.shade(np.zeros((4, 3)), nrm, view_direction=(0, 0, 1), material=MAT,
+                   lights=[pl.DirectionalLight(direction=(0, 1, 1))])
+    np.testing.assert_array_equal(s.color, ref.color)
+
+
 @pytest.mark.parametrize("kw,needle", [
     (dict(), "eye"),
     (dict(eye=(0, 0, 4), view_direction=(0, 0, 1)), "exactly one"),

@@ -21,10 +21,10 @@ from .model import (
     light_from_homogeneous,
 )
 from .shading import MODELS, LightPlan, Plan, ProbeVectors, Shading, plan_effects, shade, vectors
-from .vectors import dot, normalize, one_minus_cos, reflect
+from .vectors import SQUARING_MAX, dot, normalize, one_minus_cos, reflect
 
 __all__ = [
-    "ATTENUATION_MAX", "DISTANCE_FLOOR", "MODELS",
+    "ATTENUATION_MAX", "DISTANCE_FLOOR", "MODELS", "SQUARING_MAX",
     "AmbientLight", "DirectionalLight", "InvalidValue", "Light", "Material", "PointLight", "SpotLight",
     "light_from_homogeneous",
     "LightPlan", "Plan", "ProbeVectors", "Shading", "plan_effects", "shade", "vectors",

@@ -37,7 +37,16 @@ from .model import (
     SpotLight,
     _vec3,
 )
-from .vectors import cos_power, dot_c, normalize_c, one_minus_cos_c, reflect_c, working_dtype
+from .vectors import (
+    const_row,
+    cos_power,
+    dot_c,
+    normalize_c,
+    normalize_checked_c,
+    one_minus_cos_c,
+    reflect_c,
+    working_dtype,
+)
 
 __all__ = ["MODELS", "Plan", "LightPlan", "plan_effects", "Shading", "shade", "ProbeVectors", "vectors"]
 
@@ -264,16 +273,21 @@ class Shading:
 
 
 def _as_points(name, a):
+    """``a`` as an array of shape (..., 3) of real numbers; finiteness is checked as it is read."""
     a = np.asarray(a)
     if a.ndim == 0 or a.shape[-1] != 3:
         raise InvalidValue(name, f"array of shape {a.shape}", "must be an array of shape (..., 3)")
     if not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)):
         raise InvalidValue(name, f"array of dtype {a.dtype}", "must hold real numbers")
+    return a
+
+
+def _refuse_nonfinite(name, a):
+    """Raise InvalidValue naming the first NaN or inf in ``a``, if there is one."""
     if a.size and not np.isfinite(a).all():
         bad = np.argwhere(~np.isfinite(a))[0]
         raise InvalidValue(name, f"{a[tuple(bad)]} at index {tuple(int(i) for i in bad)}",
                            "must be finite (no NaN or inf)")
-    return a
 
 
 def _viewer(eye, view_direction):
@@ -312,7 +326,10 @@ def shade(
     ----------
     points, normals : array_like, shape (..., 3)
         Surface points and their normals (any length; renormalised here, a
-        zero normal receives no direct light). They broadcast together.
+        zero normal receives no direct light). They broadcast together and
+        must be finite where they are read: the points are read only for a
+        light with a position or a local viewer (directional lights and an
+        infinite viewer make the sum the same at every position).
     material : Material
     lights : sequence of Light
     eye : 3 floats, optional
@@ -345,7 +362,9 @@ def shade(
 
     - specular is exactly 0 where ``n·l ≤ 0``, at every α including 0;
     - ``c_l`` is clamped to [0, 1] and computed as ``1 − |a − b|²/2``, the
-      power as ``exp(α·log1p(−d))``, accurate at α = 10⁶;
+      power as ``exp(α·log1p(−d))``, accurate at α = 10⁶, or for an integer
+      α ≤ :data:`~phonglab.core.vectors.SQUARING_MAX` by repeated squaring
+      (within 2α ulps);
     - a zero-length ``n`` or ``l`` (e.g. a light on the point) contributes no
       diffuse or specular light; a zero ``v`` (the eye on the point) or ``h``
       (``l = −v``) no specular light;
@@ -388,6 +407,7 @@ def shade(
     N = np.broadcast_to(normals, shape).reshape(-1, 3)
 
     const = _Constants(material, lights, plan, eye, view_direction, dtype)
+    const.inputs = (("points", points), ("normals", normals)) if const.needs_points else (("normals", normals),)
     no_term = np.zeros(3, dtype)
     # results are held channel first, (3, n): every write below is a contiguous row
     diffuse = np.empty((3, n_points), dtype) if plan.diffuse else None
@@ -424,6 +444,8 @@ class _Constants:
     def __init__(self, material, lights, plan, eye, view_direction, dtype):
         dt = dtype.type
         self.dtype = dtype
+        self.inputs = ()  # (name, array) the loop reads, for refuse_nonfinite
+        self.inputs_checked = False
         ia = np.zeros(3)
         for lt in lights:
             if isinstance(lt, AmbientLight):
@@ -465,6 +487,19 @@ class _Constants:
             self.lights.append(item)
 
 
+    def refuse_nonfinite(self):
+        """Check the inputs the loop reads for NaN and inf, once per call.
+
+        The loop's normalisations prove clean blocks finite for free; this
+        runs only when one of them meets a vector outside the direct range
+        (NaN, inf, zero, tiny or huge).
+        """
+        if not self.inputs_checked:
+            for name, a in self.inputs:
+                _refuse_nonfinite(name, a)
+            self.inputs_checked = True
+
+
 def _unit(direction, dtype):
     """A light's or viewer's fixed direction as a (3, 1) unit vector.
 
@@ -477,7 +512,7 @@ def _unit(direction, dtype):
 def _attenuation_factor(dist, coeffs, dtype):
     """``1 / max(a + b d + c d², 1/ATTENUATION_MAX)`` with ``d`` floored at DISTANCE_FLOOR."""
     a, b, c = coeffs
-    d = np.maximum(dist, dtype.type(DISTANCE_FLOOR))
+    d = np.maximum(dist, const_row(DISTANCE_FLOOR, dist.shape, dtype))
     # only the non-zero terms: 0·inf would be NaN for a light at infinity
     den = np.full_like(d, a)
     with np.errstate(over="ignore"):
@@ -485,8 +520,8 @@ def _attenuation_factor(dist, coeffs, dtype):
             den += d * (b + c * d) if b else c * d * d
         elif b:
             den += b * d
-    np.maximum(den, dtype.type(1.0 / ATTENUATION_MAX), out=den)
-    return np.reciprocal(den, out=den)
+    np.maximum(den, const_row(1.0 / ATTENUATION_MAX, den.shape, dtype), out=den)
+    return np.divide(dtype.type(1), den, out=den)
 
 
 def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out):
@@ -498,13 +533,14 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
     dtype = const.dtype
     zero = dtype.type(0)
     shape = (3, len(normals))
-    n = np.empty(shape, dtype)
-    np.copyto(n, normals.T, casting="unsafe")
-    n, _ = normalize_c(n, out=n)
+    refuse = const.refuse_nonfinite  # NaN or inf in the inputs shows up as a vector out of range
     p = None
     if const.needs_points:  # a local viewer or a light with a position
         p = np.empty(shape, dtype)
         np.copyto(p, points.T, casting="unsafe")
+    n = np.empty(shape, dtype)
+    np.copyto(n, normals.T, casting="unsafe")
+    n, _ = normalize_checked_c(n, out=n, before_rescaling=refuse)
 
     # the view vector: constant for an infinite viewer, else per point
     v = v_len = None
@@ -512,7 +548,7 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
     if not const.needs_view:
         pass  # diffuse only and one-sided: V is never used
     elif const.eye is not None:
-        v, v_len = normalize_c(np.subtract(const.eye, p))
+        v, v_len = normalize_checked_c(np.subtract(const.eye, p), before_rescaling=refuse)
         v_zero = v_len.min() == 0  # the eye on a surface point: no specular there
     elif plan.constant_view:
         v = const.view
@@ -531,7 +567,7 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
             l = item["l"] if lp.constant_l else np.broadcast_to(item["l"], shape).copy()
             dist = None
         else:
-            l, dist = normalize_c(np.subtract(item["position"], p))
+            l, dist = normalize_checked_c(np.subtract(item["position"], p), before_rescaling=refuse)
         nl = dot_c(n, l)
         lit = nl > zero
 
@@ -541,12 +577,12 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
             c = dot_c(l, item["axis"])
             np.negative(c, out=c)
             inside = c >= item["cos_cutoff"]
-            s = np.power(np.maximum(c, zero, out=c), item["exponent"], out=c)
+            s = np.power(np.maximum(c, const_row(0, c.shape, dtype), out=c), item["exponent"], out=c)
             s *= inside
             f = s if f is None else np.multiply(f, s, out=f)
 
         if plan.diffuse:
-            w = np.maximum(nl, zero)
+            w = np.maximum(nl, const_row(0, nl.shape, dtype))
             if f is not None:
                 w *= f
             _accumulate(diffuse_out, w, item["kd_id"], first)
@@ -563,7 +599,7 @@ def _specular_power(n, l, v, nl, lit, item, const, model, v_zero, v_len):
     """``max(0, r·v)^α`` or ``max(0, n·h)^α``, exactly 0 where not ``lit`` (n·l > 0)."""
     dtype = const.dtype
     zero = dtype.type(0)
-    # specular, gated by n·l > 0 and by cos > 0, i.e. d = 1 − cos < 1
+    # specular, gated by n·l > 0 here and by cos > 0 (d = 1 − cos < 1) in cos_power
     if model == "phong":
         # 1 − r·v = |r − v|²/2 with r − v = 2(n·l)n − (l + v)
         lv = item.get("l+v")
@@ -579,7 +615,6 @@ def _specular_power(n, l, v, nl, lit, item, const, model, v_zero, v_len):
             h, h_len = normalize_c(np.add(l, v))
             h_zero = h_len.min() == 0
         d = one_minus_cos_c(n, h)
-    lit &= d < 1
     # a zero v or h gives d = 1/2, not 1: gate those points out explicitly
     if v_zero:  # the eye on the point: no viewer, no highlight
         lit &= v_len > zero

@@ -13,9 +13,18 @@ the public ones are thin wrappers over them, so both share one arithmetic.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
-__all__ = ["normalize", "dot", "reflect", "one_minus_cos", "cos_power", "working_dtype"]
+__all__ = ["normalize", "dot", "reflect", "one_minus_cos", "cos_power", "working_dtype", "SQUARING_MAX"]
+
+#: Largest integer shininess raised to its power by repeated squaring. Above it,
+#: and for every fractional α, the power is ``exp(α·log1p(−d))``. Squaring is about
+#: four times cheaper; its error grows like 2α ulps (≤ 256 ulps at 128: 1.5e-5
+#: relative in float32, 3e-14 in float64), while exp/log stays within a few ulps
+#: of the highlight at any α, up to 10⁶.
+SQUARING_MAX = 128
 
 
 def working_dtype(*arrays) -> np.dtype:
@@ -58,9 +67,21 @@ def normalize_c(v, *, out=None):
     choice is made per vector, so a vector's result never depends on which
     other vectors share the call.
     """
+    return normalize_checked_c(v, out=out)
+
+
+def normalize_checked_c(v, *, out=None, before_rescaling=None):
+    """:func:`normalize_c`, calling ``before_rescaling()`` first if any vector needs rescaling.
+
+    Every sum of squares strictly inside the direct range also proves every
+    component finite (NaN and inf fail the range test). A caller that must
+    refuse non-finite input passes a ``before_rescaling`` that checks its
+    input and raises; it runs only when some vector left the direct range, so
+    clean input pays no separate finiteness pass.
+    """
     v = np.asarray(v)
     x, y, z = v[0], v[1], v[2]
-    with np.errstate(over="ignore", under="ignore"):  # out-of-range sums are detected below
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):  # out-of-range sums are detected below
         ss = x * x
         ss += y * y
         ss += z * z
@@ -68,7 +89,10 @@ def normalize_c(v, *, out=None):
     if ss.size == 0 or (ss.min() > lo and ss.max() < hi):
         # direct: |v| = sqrt(x² + y² + z²) everywhere
         length = np.sqrt(ss, out=ss if isinstance(ss, np.ndarray) else None)
-        return np.multiply(v, np.reciprocal(length), out=out), length
+        # 1/length by division: the same correctly rounded value as np.reciprocal, and faster
+        return np.multiply(v, np.divide(v.dtype.type(1), length), out=out), length
+    if before_rescaling is not None:
+        before_rescaling()
     if v.ndim == 1:
         return _normalize_scaled_c(v, out=out)
     # the direct formula where it is safe, rescaling only the other vectors
@@ -76,7 +100,7 @@ def normalize_c(v, *, out=None):
     fixed, fixed_length = _normalize_scaled_c(v[:, bad])  # before out= may overwrite v
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         length = np.sqrt(ss)
-        unit = np.multiply(v, np.reciprocal(length), out=out)
+        unit = np.multiply(v, np.divide(v.dtype.type(1), length), out=out)
     unit[:, bad] = fixed
     length[bad] = fixed_length
     return unit, length
@@ -144,10 +168,11 @@ def cos_power(d, lit, shininess):
     Parameters
     ----------
     d : ndarray
-        ``1 − cos`` of the angle, from :func:`one_minus_cos`; clamped to [0, 1],
-        i.e. ``cos`` clamped to [0, 1] before the power. Modified in place.
+        ``1 − cos`` of the angle, from :func:`one_minus_cos`, ``d ≥ 0``;
+        ``cos`` is clamped to [0, 1] before the power. Modified in place.
     lit : ndarray of bool
-        Where the term applies (``n·l > 0`` and ``cos > 0``); exactly 0 elsewhere.
+        Where the term applies (``n·l > 0``); exactly 0 elsewhere, and where
+        ``cos ≤ 0``.
     shininess : float
         The exponent α ≥ 0.
 
@@ -156,22 +181,65 @@ def cos_power(d, lit, shininess):
     .. math:: \\max(0, \\cos)^{\\alpha} = \\exp(\\alpha \\, \\mathrm{log1p}(-d))
 
     ``log1p`` keeps the relative precision of tiny ``d``, so α = 10⁶ near the
-    highlight is as accurate as α = 10. α = 0 gives exactly 1 wherever ``lit``
-    (the convention x⁰ = 1); the ``lit`` gate still makes the term exactly 0 on
-    the unlit side, so no α lights the back of a surface.
+    highlight is as accurate as α = 10. An integer α up to :data:`SQUARING_MAX`
+    is instead raised by repeated squaring of ``1 − d``: a few multiplications
+    in place of a log and an exp, at most about 2α ulps from the exact power.
+    α = 0 gives exactly 1 wherever ``lit`` and ``cos > 0`` (x⁰ = 1); the ``lit``
+    gate still makes the term exactly 0 on the unlit side, so no α lights the
+    back of a surface.
     """
     dtype = np.asarray(d).dtype
     # α in the working precision, kept finite: 0·(−inf) or inf·0 would be NaN
     alpha = dtype.type(min(float(shininess), float(np.finfo(dtype).max)))
-    if alpha == 0:  # α = 0, or so small it rounds to 0: x⁰ = 1 wherever lit
-        return lit.astype(dtype)
-    np.minimum(d, dtype.type(1), out=d)  # clamp cos to [0, 1]
+    if alpha == 0:  # α = 0, or so small it rounds to 0: x⁰ = 1 wherever lit and cos > 0
+        return (lit & (d < 1)).astype(dtype)
+    if float(shininess).is_integer() and shininess <= SQUARING_MAX:
+        return _power_by_squaring(d, lit, int(shininess))
+    np.minimum(d, const_row(1, d.shape, dtype), out=d)  # clamp cos to [0, 1]
     t = log1p_neg(d)  # -inf at d = 1: exp gives exactly 0
     with np.errstate(over="ignore", under="ignore"):  # a huge α·log may reach -inf: exp gives 0
         t *= alpha
         np.exp(t, out=t)
     t *= lit
     return t
+
+
+def _power_by_squaring(d, lit, k):
+    """``max(0, 1 − d)^k`` for an integer ``k ≥ 1``, gated by ``lit``; reuses ``d``."""
+    dtype = d.dtype
+    c = np.subtract(dtype.type(1), d, out=d)
+    np.maximum(c, const_row(0, c.shape, dtype), out=c)  # clamp cos to [0, 1]
+    c *= lit  # exactly 0 where unlit: 0^k = 0
+    # square c for each bit of k, multiplying the squares of the set bits together
+    result = None
+    while True:
+        if k & 1:
+            if result is None:
+                result = c  # c is not squared in place after this
+            else:
+                result *= c
+        k >>= 1
+        if not k:
+            return result
+        with np.errstate(under="ignore"):  # tiny powers flush to 0, as the exact ones would round
+            c = np.multiply(c, c, out=None if c is result else c)
+
+
+@functools.lru_cache(maxsize=16)
+def _const_row_cached(value, shape, dtype):
+    row = np.full(shape, value, dtype)
+    row.flags.writeable = False
+    return row
+
+
+def const_row(value, shape, dtype):
+    """A read-only array of ``value`` of this shape.
+
+    ``np.maximum(x, 0)`` with a scalar runs NumPy's slow broadcast loop; with a
+    full array of zeros it runs the vectorised one, three times faster. The
+    rows are cached per block size.
+    """
+    return _const_row_cached(float(value), tuple(shape), np.dtype(dtype))
 
 
 # ---------------------------------------------------------------------------
