@@ -398,3 +398,26 @@ def test_an_area_light_is_drawn_as_a_flat_panel_where_it_is():
         assert not actor.GetVisibility()
     finally:
         view.close()
+
+
+def test_label_offsets_stack_letters_of_coinciding_arrows_only():
+    from phonglab.render.view import label_offsets
+
+    up, tilted, side = (0, 0, 1), (np.sin(0.05), 0, np.cos(0.05)), (1, 0, 0)  # 0.05 rad ≈ 3°
+    dirs = {"N": up, "L": tilted, "R": side, "V": up, "H": up}
+    offsets = label_offsets(list("NLRVH"), dirs)
+    assert offsets == {"N": 0, "L": 1, "R": 0, "V": 2, "H": 3}, (dirs, offsets)
+    assert label_offsets(list("NR"), {"N": up, "R": side}) == {"N": 0, "R": 0}
+
+
+def test_headlight_over_the_probe_gives_every_letter_its_own_line():
+    # light and eye straight above the probe: N, L, R, V and H all point the same way
+    probe = np.array([0.0, 0.0, 1.0])
+    scene = red_sphere(**{"lights[1].position": [0, 0, 6]}, camera__eye=[0, 0, 4], probe=tuple(probe))
+    v = SceneView(scene, size=SIZE, vtk_text=True)
+    try:
+        shown = [letter for letter, actor in v._labels.items() if actor.GetVisibility()]
+        offsets = [v._labels[letter].GetDisplayOffset() for letter in shown]
+        assert len(shown) == 5 and len(set(offsets)) == 5, (shown, offsets)
+    finally:
+        v.close()

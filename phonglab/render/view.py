@@ -604,6 +604,9 @@ class SceneView:
             n = -normal if (self.scene.two_sided and normal @ v < 0) else normal
             directions = {"N": n, "V": v}
         view_direction = self.scene.camera.view_direction
+        offsets = label_offsets([letter for letter in self._arrows if letter in self._letters and letter in directions],
+                                directions)
+        line = max(12, self.render_window.GetSize()[1] // 24) + 2
         for letter, (data, actor) in self._arrows.items():
             shown = letter in self._letters and letter in directions
             if shown:
@@ -613,6 +616,8 @@ class SceneView:
                 tip = point + directions[letter] * self.arrow_length * 1.12
                 if letter in self._labels:
                     self._labels[letter].SetPosition(*tip)
+                    # letters of arrows that (nearly) coincide are stacked, not drawn on each other
+                    self._labels[letter].SetDisplayOffset(0, -offsets[letter] * line)
             actor.SetVisibility(bool(shown))
             if letter in self._labels:
                 self._labels[letter].SetVisibility(bool(shown and self.show_labels))
@@ -956,6 +961,27 @@ def _letter_metrics(height: int, letters: str) -> tuple[int, float, float]:
     # draw_labels: half-extent of the letter from its anchor, and the centre's distance from the tip
     extent = max(max(fnt.getbbox(letter, anchor="mm")[2:]) for letter in letters)
     return size, 0.45 * size + 0.6 * extent, float(extent)
+
+
+#: Arrows closer than this angle (degrees) have their letters stacked.
+LABEL_STACK_DEGREES = 10.0
+
+
+def label_offsets(letters, directions) -> dict[str, int]:
+    """How many lines down to shift each letter so nearly coinciding arrows stay readable.
+
+    Each letter moves one line below every earlier letter whose arrow lies
+    within :data:`LABEL_STACK_DEGREES` of its own (e.g. N, L, R, V and H all
+    coincide when the light and the eye are straight above the point).
+    """
+    cos_limit = np.cos(np.radians(LABEL_STACK_DEGREES))
+    offsets: dict[str, int] = {}
+    for i, letter in enumerate(letters):
+        d = np.asarray(directions[letter], float)
+        taken = {offsets[other] for other in letters[:i]
+                 if float(np.dot(d, np.asarray(directions[other], float))) >= cos_limit}
+        offsets[letter] = next(k for k in range(len(letters) + 1) if k not in taken)
+    return offsets
 
 
 def _label_metrics(height: int, letters) -> tuple[int, float, float]:
