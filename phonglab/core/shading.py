@@ -42,7 +42,6 @@ from .vectors import (
     cos_power,
     dot_c,
     normalize_c,
-    normalize_checked_c,
     one_minus_cos_c,
     reflect_c,
     working_dtype,
@@ -406,8 +405,7 @@ def shade(
     P = np.broadcast_to(points, shape).reshape(-1, 3)
     N = np.broadcast_to(normals, shape).reshape(-1, 3)
 
-    const = _Constants(material, lights, plan, eye, view_direction, dtype)
-    const.inputs = (("points", points), ("normals", normals)) if const.needs_points else (("normals", normals),)
+    const = _Constants(material, lights, plan, eye, view_direction, dtype, points, normals)
     no_term = np.zeros(3, dtype)
     # results are held channel first, (3, n): every write below is a contiguous row
     diffuse = np.empty((3, n_points), dtype) if plan.diffuse else None
@@ -441,11 +439,9 @@ def shade(
 class _Constants:
     """What the per-point loop needs, precomputed once in the working dtype."""
 
-    def __init__(self, material, lights, plan, eye, view_direction, dtype):
+    def __init__(self, material, lights, plan, eye, view_direction, dtype, points, normals):
         dt = dtype.type
         self.dtype = dtype
-        self.inputs = ()  # (name, array) the loop reads, for refuse_nonfinite
-        self.inputs_checked = False
         ia = np.zeros(3)
         for lt in lights:
             if isinstance(lt, AmbientLight):
@@ -462,6 +458,9 @@ class _Constants:
         self.needs_view = plan.specular or plan.two_sided
         self.needs_points = (self.needs_view and eye is not None) or any(
             not isinstance(lights[lp.index], DirectionalLight) for lp in plan.lights)
+        # the arrays the loop reads, checked for NaN and inf by refuse_nonfinite
+        self.inputs = (("points", points), ("normals", normals)) if self.needs_points else (("normals", normals),)
+        self.inputs_checked = False
         self.lights = []
         for lp in plan.lights:
             lt = lights[lp.index]
@@ -485,7 +484,6 @@ class _Constants:
                 item["cos_cutoff"] = dt(math.cos(math.radians(lt.cutoff)) - SPOT_SLACK_ULPS * np.finfo(dtype).eps)
                 item["exponent"] = dt(lt.exponent)
             self.lights.append(item)
-
 
     def refuse_nonfinite(self):
         """Check the inputs the loop reads for NaN and inf, once per call.
@@ -540,7 +538,7 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
         np.copyto(p, points.T, casting="unsafe")
     n = np.empty(shape, dtype)
     np.copyto(n, normals.T, casting="unsafe")
-    n, _ = normalize_checked_c(n, out=n, before_rescaling=refuse)
+    n, _ = normalize_c(n, out=n, before_rescaling=refuse)
 
     # the view vector: constant for an infinite viewer, else per point
     v = v_len = None
@@ -548,7 +546,7 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
     if not const.needs_view:
         pass  # diffuse only and one-sided: V is never used
     elif const.eye is not None:
-        v, v_len = normalize_checked_c(np.subtract(const.eye, p), before_rescaling=refuse)
+        v, v_len = normalize_c(np.subtract(const.eye, p), before_rescaling=refuse)
         v_zero = v_len.min() == 0  # the eye on a surface point: no specular there
     elif plan.constant_view:
         v = const.view
@@ -567,7 +565,7 @@ def _shade_block(points, normals, const, plan, model, diffuse_out, specular_out)
             l = item["l"] if lp.constant_l else np.broadcast_to(item["l"], shape).copy()
             dist = None
         else:
-            l, dist = normalize_checked_c(np.subtract(item["position"], p), before_rescaling=refuse)
+            l, dist = normalize_c(np.subtract(item["position"], p), before_rescaling=refuse)
         nl = dot_c(n, l)
         lit = nl > zero
 

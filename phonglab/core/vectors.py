@@ -57,7 +57,7 @@ def dot_c(a, b):
     return out
 
 
-def normalize_c(v, *, out=None):
+def normalize_c(v, *, out=None, before_rescaling=None):
     """Unit vectors and lengths of components-first vectors ``(3, ...)``.
 
     Returns ``(unit, length)``. Zero vectors give a zero unit vector and length 0.
@@ -66,12 +66,6 @@ def normalize_c(v, *, out=None):
     subnormal, zero) are rescaled by their largest component first. The
     choice is made per vector, so a vector's result never depends on which
     other vectors share the call.
-    """
-    return normalize_checked_c(v, out=out)
-
-
-def normalize_checked_c(v, *, out=None, before_rescaling=None):
-    """:func:`normalize_c`, calling ``before_rescaling()`` first if any vector needs rescaling.
 
     Every sum of squares strictly inside the direct range also proves every
     component finite (NaN and inf fail the range test). A caller that must
@@ -81,7 +75,7 @@ def normalize_checked_c(v, *, out=None, before_rescaling=None):
     """
     v = np.asarray(v)
     x, y, z = v[0], v[1], v[2]
-    with np.errstate(over="ignore", under="ignore", invalid="ignore"):  # out-of-range sums are detected below
+    with np.errstate(over="ignore", under="ignore"):  # out-of-range sums are detected below
         ss = x * x
         ss += y * y
         ss += z * z

@@ -291,7 +291,7 @@ class SceneView:
         prop = actor.GetTextProperty()
         prop.SetColor(*(c / 255 for c in glyphs.VECTORS[letter][0]))
         prop.BoldOn()
-        prop.SetFontSize(max(12, self.render_window.GetSize()[1] // 24))
+        prop.SetFontSize(_letter_font_size(self.render_window.GetSize()[1]))
         prop.SetJustificationToCentered()
         prop.SetVerticalJustificationToCentered()
         actor.PickableOff()
@@ -560,10 +560,10 @@ class SceneView:
         """Resize the window to (width, height) pixels."""
         self.render_window.SetSize(int(size[0]), int(size[1]))
         for actor in self._labels.values():
-            actor.GetTextProperty().SetFontSize(max(12, int(size[1]) // 24))
+            actor.GetTextProperty().SetFontSize(_letter_font_size(int(size[1])))
         if self._legend_actor is not None:
             self._legend_actor.GetTextProperty().SetFontSize(max(10, int(size[1]) // 38))
-        self._fit_view_angle()
+        self._update_vectors()  # the letters' stacking offsets are in lines of the new size
 
     def _recolor(self) -> None:
         """Recompute the mesh colours with the core and write them into the arrays."""
@@ -606,7 +606,7 @@ class SceneView:
         view_direction = self.scene.camera.view_direction
         offsets = label_offsets([letter for letter in self._arrows if letter in self._letters and letter in directions],
                                 directions)
-        line = max(12, self.render_window.GetSize()[1] // 24) + 2
+        line = _letter_font_size(self.render_window.GetSize()[1]) + 2
         for letter, (data, actor) in self._arrows.items():
             shown = letter in self._letters and letter in directions
             if shown:
@@ -961,6 +961,11 @@ def _letter_metrics(height: int, letters: str) -> tuple[int, float, float]:
     # draw_labels: half-extent of the letter from its anchor, and the centre's distance from the tip
     extent = max(max(fnt.getbbox(letter, anchor="mm")[2:]) for letter in letters)
     return size, 0.45 * size + 0.6 * extent, float(extent)
+
+
+def _letter_font_size(height: int) -> int:
+    """Font size (pixels) of the VTK text letters at the arrow tips in a window this tall."""
+    return max(12, height // 24)
 
 
 #: Arrows closer than this angle (degrees) have their letters stacked.
