@@ -24,7 +24,7 @@ from pathlib import Path
 
 from phonglab.scene.build import Problems, scene_parts
 from phonglab.scene.errors import SceneError
-from phonglab.scene.fieldpath import field_value, homogeneous_of, locate_field, parse_path, plain, scene_to_dict
+from phonglab.scene.fieldpath import field_value, locate_field, parse_path, plain, scene_to_dict
 from phonglab.scene.schema import LIGHT_KEYS, light_type, table_light_type
 
 #: a spotlight's cone when a light becomes a spot
@@ -176,19 +176,24 @@ def retyped_light_table(table: dict, kind: str, focal, eye) -> dict:
     new["type"] = kind
     if kind == "ambient":
         return new
-    position, direction = table.get("position"), table.get("direction")
-    if "homogeneous" in table:
-        hom = homogeneous_of(table)
-        if hom[3] == 0:
-            position, direction = None, hom[:3]
-        else:
-            position = [c / hom[3] for c in hom[:3]]
-    focal = [float(c) for c in focal]
-    towards_eye = [float(e) - f for e, f in zip(eye, focal)]
-    offset = [float(p) - f for p, f in zip(position, focal)] if position is not None else None
+    # where the light is
+    position, direction = _numbers(table.get("position"), 3), _numbers(table.get("direction"), 3)
+    hom = _numbers(table.get("homogeneous"), 4)
+    if any(table.get(k) is not None and v is None for k, v in
+           (("position", position), ("direction", direction), ("homogeneous", hom))) or (hom and hom[3] < 0):
+        return {**table, "type": kind}  # a place that is not one: left for the scene check to report
+    if hom is not None and hom[3] == 0:
+        position, direction = None, hom[:3]
+    elif hom is not None and hom[3] > 0:
+        position = [c / hom[3] for c in hom[:3]]
+    focal, eye = _numbers(focal, 3), _numbers(eye, 3)
+    if focal is None or eye is None or focal == eye:  # a camera being edited: left for the scene check
+        return {**table, "type": kind}
+    towards_eye = [e - f for e, f in zip(eye, focal)]
+    offset = [p - f for p, f in zip(position, focal)] if position is not None else None
     if offset is None or not any(offset):  # no place of its own: along its direction, or towards the eye
         position = None
-        offset = [float(d) for d in direction] if direction is not None and any(direction) else towards_eye
+        offset = direction if direction is not None and any(direction) else towards_eye
     length = math.sqrt(sum(c * c for c in offset))
     unit = [c / length for c in offset]
     if kind == "directional":
@@ -197,12 +202,21 @@ def retyped_light_table(table: dict, kind: str, focal, eye) -> dict:
     if position is None:
         distance = max(RETYPE_MIN_DISTANCE, math.sqrt(sum(c * c for c in towards_eye)))
         position = [f + distance * u for f, u in zip(focal, unit)]
-    new["position"] = [float(p) for p in position]
+    new["position"] = list(position)
     new["attenuation"] = table.get("attenuation", [1.0, 0.0, 0.0])
     if kind == "spot":
         new["direction"] = [f - p for f, p in zip(focal, new["position"])]  # aimed at the focal point
         new.update(SPOT_DEFAULTS)
     return new
+
+
+def _numbers(value, size: int) -> list[float] | None:
+    """``value`` as ``size`` finite floats, or None when it is not a list of them."""
+    if not isinstance(value, (list, tuple)) or len(value) != size:
+        return None
+    if not all(isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in value):
+        return None
+    return [float(c) for c in value]
 
 
 def retype_light(scene, index: int, kind: str):
