@@ -13,7 +13,6 @@ from phonglab.scene import (
     Camera,
     Experiment,
     Geometry,
-    Scene,
     SceneError,
     field_value,
     load_scene,
