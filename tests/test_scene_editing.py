@@ -91,3 +91,11 @@ def test_the_lesson_list_keeps_title_and_number_of_a_broken_lesson(tmp_path):
     got = [(e.number, e.title, e.ok, len(e.errors)) for e in entries]
     assert got == [(4, "Broken heading", False, 1), (9, "Given", False, 2), (6, "No front matter", False, 1)], got
     assert first == 0
+
+
+def test_area_light_problems_are_each_reported_once():
+    area = {"position": [0, 0, 1], "edge_u": [0, 0, 1], "edge_v": [0, 0, 1], "intensity": -1}
+    with pytest.raises(SceneError) as info:
+        scene_from_dict(table(area_light=area))
+    fields = sorted(e.field for e in info.value)
+    assert fields == ["area_light.edge_v", "area_light.intensity"], str(info.value)

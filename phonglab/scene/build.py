@@ -142,10 +142,12 @@ def _core_object(make, values: dict, path: str, problems: Problems, *, complete:
             made = make(**trial)
         except core.InvalidValue as exc:
             key, error = _refusal(exc, path, values)
-            problems.add(error)
-            if key in refused or key not in trial:  # no progress possible
+            if key in refused:  # refused again next to a default: reported already
                 return None
+            problems.add(error)
             refused.add(key)
+            if key not in trial:  # no progress possible
+                return None
             if key in neutral:
                 trial[key] = neutral[key]
             else:
