@@ -25,7 +25,6 @@ from phonglab.scene.loader import display, lesson_files, load_scene, parse_toml,
 from phonglab.scene.model import Experiment, Lesson, Scene
 from phonglab.scene.schema import EXPERIMENT_KEYS, LESSON_KEYS
 from phonglab.scene.toml_lines import KeyLines, render_key
-from phonglab.teaching.mistakes import MISTAKES
 
 #: a Markdown heading line: "# Title"
 _HEADING = re.compile(r"^#\s+(.+?)\s*#*\s*$", re.MULTILINE)
@@ -118,6 +117,9 @@ def _read_lesson(path) -> _Reading:
         texts[key] = problems.run(check_text, key, data.get(key, "")) or ""
     mistake = data.get("mistake")
     if mistake is not None:
+        # imported here: only a lesson naming a mistake needs the teaching layer loaded
+        from phonglab.teaching.mistakes import MISTAKES
+
         mistake = problems.run(check_choice, "mistake", mistake, tuple(MISTAKES))
     controls = _build_controls(data.get("controls", []), scene, problems)
     experiments = []
