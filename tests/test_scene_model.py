@@ -13,7 +13,6 @@ from phonglab.scene import (
     Camera,
     Experiment,
     Geometry,
-    Scene,
     SceneError,
     field_value,
     load_scene,
@@ -73,7 +72,6 @@ def test_camera_rejects(kwargs, field, words):
         ({"kind": "pyvista"}, "name", "required"),
         ({"kind": "file"}, "path", "required"),
         ({"kind": "torus", "path": "x.ply"}, "path", 'only used with kind = "file"'),
-        ({"kind": "file", "path": "/no/such/mesh.stl"}, "path", "no such mesh file"),
     ],
 )
 def test_geometry_rejects(kwargs, field, words):
@@ -82,13 +80,21 @@ def test_geometry_rejects(kwargs, field, words):
     assert info.value.field == field and words in str(info.value), (kwargs, str(info.value))
 
 
-def test_scene_rejects_non_core_parts():
+def test_mesh_files_are_checked_when_a_scene_is_built_not_by_geometry(tmp_path):
+    missing = str(tmp_path / "mesh.stl")
+    assert Geometry("file", path=missing).path == missing, "Geometry does not look at the disk"
+    table = {"geometry": {"kind": "file", "path": missing}, "material": {"ka": 0, "kd": 0, "ks": 0, "shininess": 1}}
     with pytest.raises(SceneError) as info:
-        Scene(Geometry("sphere"), {"ka": 1}, (), Camera())
-    assert info.value.field == "material", str(info.value)
+        scene_from_dict(table)
+    assert info.value.field == "geometry.path" and "no such mesh file" in str(info.value), str(info.value)
+
+
+def test_scene_files_refuse_parts_that_are_not_tables():
+    table = {"geometry": {"kind": "sphere"}, "material": {"ka": 1}, "lights": ["sun"]}
     with pytest.raises(SceneError) as info:
-        Scene(Geometry("sphere"), pl.Material(ka=0, kd=0, ks=0, shininess=1), ("sun",), Camera())
-    assert info.value.field == "lights[0]", str(info.value)
+        scene_from_dict(table)
+    fields = {e.field for e in info.value}
+    assert fields == {"material.kd", "material.ks", "material.shininess", "lights[0]"}, str(info.value)
 
 
 def test_experiment_apply_runs_settings_in_order(scene):
@@ -222,7 +228,7 @@ def test_changing_a_light_type_keeps_it_where_it_was():
     assert type(point).__name__ == "PointLight", point
     spot = scene.replace("lights[1].type", "spot").lights[1]
     # same place, aimed at the camera's focal point, with a default cone
-    assert spot.position == point.position and spot.cutoff == 30.0, spot
+    assert spot.position == point.position and spot.cutoff == 25.0 and spot.exponent == 2.0, spot
     aim = np.subtract(scene.camera.focal_point, point.position)
     np.testing.assert_allclose(np.cross(spot.direction, aim), 0, atol=1e-12, err_msg=str(spot))
     directional = scene.replace("lights[1].type", "directional")

@@ -75,8 +75,6 @@ MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"))
 INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)"), ("pixel", "Per pixel"))
 #: the shininess slider spans α = 10**0 .. 10**3
 SHININESS_LOG_RANGE = (0.0, 3.0)
-#: spotlight defaults when a light becomes a spot
-SPOT_DEFAULTS = {"cutoff": 25.0, "exponent": 2.0}
 
 _HEX = re.compile(r"#[0-9a-fA-F]{6}")
 
@@ -276,161 +274,22 @@ def split_level(rgb) -> tuple[float, tuple[float, float, float]]:
 # light placement
 
 
-@dataclass(frozen=True)
-class Frame:
-    """The axes azimuth and elevation are measured in.
-
-    ``up`` is the vertical axis (the lesson camera's up), ``front`` the
-    direction of azimuth 0 (towards the lesson's eye, flattened onto the
-    horizontal plane) and ``right`` the direction of azimuth +90°.
-    """
-
-    up: tuple = (0.0, 1.0, 0.0)
-    front: tuple = (0.0, 0.0, 1.0)
-    right: tuple = (1.0, 0.0, 0.0)
-
-    @classmethod
-    def of_camera(cls, camera) -> "Frame":
-        """The frame of a scene camera: vertical along ``up``, azimuth 0 towards the eye."""
-        up = _unit(camera.up)
-        towards_eye = [e - f for e, f in zip(camera.eye, camera.focal_point)]
-        front = _unit(_reject(towards_eye, up))
-        if front is None:  # looking straight along up: any horizontal direction
-            trial = (0.0, 0.0, 1.0) if abs(up[2]) < 0.9 else (1.0, 0.0, 0.0)
-            front = _unit(_reject(trial, up))
-        right = _cross(up, front)
-        return cls(up=up, front=front, right=right)
-
-
-def _unit(v):
-    n = math.sqrt(sum(c * c for c in v))
-    return tuple(c / n for c in v) if n > 1e-12 else None
-
-
-def _reject(v, axis):
-    d = sum(a * b for a, b in zip(v, axis))
-    return [a - d * b for a, b in zip(v, axis)]
-
-
-def _cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def place_of(offset, frame: Frame) -> tuple[float, float, float]:
-    """(azimuth°, elevation°, length) of an offset in ``frame``."""
-    length = math.sqrt(sum(c * c for c in offset))
-    if length == 0:
-        return 0.0, 0.0, 0.0
-    x = sum(a * b for a, b in zip(offset, frame.right)) / length
-    y = sum(a * b for a, b in zip(offset, frame.up)) / length
-    z = sum(a * b for a, b in zip(offset, frame.front)) / length
-    return math.degrees(math.atan2(x, z)), math.degrees(math.asin(max(-1.0, min(1.0, y)))), length
-
-
-def place_offset(azimuth: float, elevation: float, distance: float, frame: Frame) -> tuple[float, float, float]:
-    """The offset for azimuth°, elevation° and distance in ``frame``."""
-    a, e = math.radians(azimuth), math.radians(elevation)
-    x, y, z = math.cos(e) * math.sin(a), math.sin(e), math.cos(e) * math.cos(a)
-    return tuple(distance * (x * r + y * u + z * f) for r, u, f in zip(frame.right, frame.up, frame.front))
-
-
-def light_place(light, focal, frame: Frame) -> tuple[float, float, float]:
-    """(azimuth°, elevation°, distance) of a light around the focal point.
-
-    A directional light's direction (towards the light) gives azimuth and
-    elevation; its distance is reported as 0.
-    """
-    if isinstance(light, core.DirectionalLight):
-        az, el, _ = place_of(light.direction, frame)
-        return az, el, 0.0
-    return place_of([p - f for p, f in zip(light.position, focal)], frame)
-
-
-def _aims_at(light, focal) -> bool:
-    """Whether a spot's axis points from its position at the focal point."""
-    to_focal = [f - p for p, f in zip(light.position, focal)]
-    n1 = math.sqrt(sum(c * c for c in to_focal))
-    n2 = math.sqrt(sum(c * c for c in light.direction))
-    if n1 == 0 or n2 == 0:
-        return False
-    cos = sum(a * b for a, b in zip(to_focal, light.direction)) / (n1 * n2)
-    return cos > 1 - 1e-6
-
-
-def _light_table(scene, index) -> dict:
-    return field_value(scene, f"lights[{index}]")
-
-
-def move_light(scene, index, frame, azimuth=None, elevation=None, distance=None):
-    """The scene with light ``index`` moved to new azimuth/elevation/distance (None: keep)."""
-    light = scene.lights[index]
-    focal = scene.camera.focal_point
-    az, el, dist = light_place(light, focal, frame)
-    az = az if azimuth is None else azimuth
-    el = el if elevation is None else elevation
-    dist = dist if distance is None else distance
-    table = _light_table(scene, index)
-    table.pop("homogeneous", None)
-    if isinstance(light, core.DirectionalLight):
-        table.pop("position", None)
-        table["type"] = "directional"
-        table["direction"] = list(place_offset(az, el, 1.0, frame))
-    else:
-        if dist <= 0:
-            raise ControlError(f"lights[{index}].distance: must be > 0, got {dist:g}")
-        offset = place_offset(az, el, dist, frame)
-        if isinstance(light, core.SpotLight) and _aims_at(light, focal):
-            # a spot aimed at the focal point stays aimed at it
-            table["direction"] = [-o for o in offset]
-        table["type"] = "spot" if isinstance(light, core.SpotLight) else "point"
-        table["position"] = [f + o for f, o in zip(focal, offset)]
-    return scene.replace(f"lights[{index}]", table)
+from phonglab.scene.editing import (  # noqa: E402  (placement and retyping live in the scene layer)
+    SPOT_DEFAULTS,
+    Frame,
+    light_place,
+    move_light,
+    place_of,
+    place_offset,
+)
+from phonglab.scene.editing import light_kind as _light_kind  # noqa: E402
+from phonglab.scene.editing import move_eye as _move_eye  # noqa: E402
+from phonglab.scene.editing import retype_light  # noqa: E402
 
 
 def _retype_light(scene, index, kind, frame):
-    """The scene with light ``index`` turned into a ``kind`` light at the same place."""
-    light = scene.lights[index]
-    old = _light_table(scene, index)
-    if _light_kind(light) == kind:
-        return scene
-    focal = scene.camera.focal_point
-    az, el, dist = light_place(light, focal, frame)
-    if dist <= 0:
-        dist = max(3.0, math.dist(scene.camera.eye, focal))
-    table = {k: old[k] for k in ("color", "intensity", "diffuse", "specular") if k in old}
-    table["type"] = kind
-    offset = place_offset(az, el, dist, frame)
-    if kind == "directional":
-        table["direction"] = list(place_offset(az, el, 1.0, frame))
-    else:
-        table["position"] = [f + o for f, o in zip(focal, offset)]
-        table["attenuation"] = old.get("attenuation", [1.0, 0.0, 0.0])
-        if kind == "spot":
-            table["direction"] = [-o for o in offset]
-            table.update(SPOT_DEFAULTS)
-    return scene.replace(f"lights[{index}]", table)
-
-
-def _light_kind(light) -> str:
-    if isinstance(light, core.SpotLight):
-        return "spot"
-    if isinstance(light, core.PointLight):
-        return "point"
-    if isinstance(light, core.DirectionalLight):
-        return "directional"
-    return "ambient"
-
-
-def _move_eye(scene, frame, azimuth=None, elevation=None, distance=None):
-    """The scene with the eye moved around the focal point."""
-    camera = scene.camera
-    offset = [e - f for e, f in zip(camera.eye, camera.focal_point)]
-    az, el, dist = place_of(offset, frame)
-    az = az if azimuth is None else azimuth
-    el = el if elevation is None else elevation
-    dist = dist if distance is None else distance
-    eye = [f + o for f, o in zip(camera.focal_point, place_offset(az, el, dist, frame))]
-    return scene.replace("camera.eye", eye)
+    """The scene with light ``index`` turned into a ``kind`` light at the same place (the frame is not needed)."""
+    return retype_light(scene, index, kind)
 
 
 # ---------------------------------------------------------------------------

@@ -5,42 +5,29 @@ read and checked once into frozen dataclasses (:class:`Scene`,
 :class:`Lesson`); :func:`plan` decides which lighting effects the scene calls
 for, and :func:`shade` runs the core on the scene's mesh points with that plan.
 
+The modules import one way, each only those listed before it::
+
+    errors, schema -> checks -> paths -> parts -> build -> fieldpath -> editing
+    -> model -> loader -> lessons -> planner
+
+(``toml_lines`` stands alone.) ``Scene.replace`` is a method of ``model.Scene``
+calling :mod:`~phonglab.scene.editing`, which works on any scene it is given.
+
 This package imports NumPy and the core only: no PyVista, no VTK.
 """
 
-from phonglab.scene.model import (
-    GEOMETRY_KINDS,
-    INTERPOLATIONS,
-    MODELS,
-    PARAMETRIC_KINDS,
-    Camera,
-    Experiment,
-    Geometry,
-    Lesson,
-    Scene,
-    SceneError,
-    SceneErrors,
-)
-from phonglab.scene.paths import MESH_EXTENSIONS, PYVISTA_MESHES, mesh_file, pyvista_mesh_path
-from phonglab.scene.loader import (
-    lesson_files,
-    list_lessons,
-    load,
-    load_lesson,
-    load_scene,
-    scene_from_dict,
-)
-from phonglab.scene.fieldpath import (
-    field_value,
-    parse_path,
-    parse_setting,
-    parse_value,
-    scene_to_dict,
-)
+from phonglab.scene.errors import SceneError, SceneErrors
+from phonglab.scene.schema import GEOMETRY_KINDS, INTERPOLATIONS, MODELS, PARAMETRIC_KINDS
+from phonglab.scene.paths import MESH_EXTENSIONS, PYVISTA_MESHES, pyvista_mesh_path
+from phonglab.scene.model import Camera, Experiment, Geometry, Lesson, Scene
+from phonglab.scene.fieldpath import field_value, parse_path, parse_setting, parse_value, scene_to_dict
+from phonglab.scene.loader import lesson_files, load_scene, scene_from_dict
+from phonglab.scene.lessons import Entry, catalog, list_lessons, load, load_entry, load_lesson
 from phonglab.scene.planner import ScenePlan, plan, shade, viewer
 
 __all__ = [
     "Camera",
+    "Entry",
     "Experiment",
     "Geometry",
     "Lesson",
@@ -55,13 +42,14 @@ __all__ = [
     "PARAMETRIC_KINDS",
     "MESH_EXTENSIONS",
     "PYVISTA_MESHES",
+    "catalog",
     "field_value",
     "lesson_files",
     "list_lessons",
     "load",
+    "load_entry",
     "load_lesson",
     "load_scene",
-    "mesh_file",
     "parse_path",
     "parse_setting",
     "parse_value",

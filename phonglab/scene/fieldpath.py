@@ -1,40 +1,37 @@
-"""Field paths: read and replace one field of a scene by its name.
+"""Field paths: name and read one field of a scene, in its file form.
 
 A field path names a value as a scene file writes it: ``model``,
 ``material.ks``, ``lights[1].position``, ``lights[1].position[2]``,
 ``camera.eye``, ``geometry.resolution``. The web app's state keys and the
 command line's ``--set PATH=VALUE`` use these paths.
 
-:func:`replace_field` works on the scene's file form: it turns the scene
-into the dictionary a TOML file would give, sets the value, and checks the
-result exactly as a file is checked, so a value refused in a file is refused
-here with the same message.
+:func:`scene_to_dict` gives a scene's file form (the dictionary its TOML file
+would parse to) and :func:`field_value` reads one field of it. Writing a
+field is :mod:`phonglab.scene.editing`'s job (``Scene.replace``).
 """
 
 from __future__ import annotations
 
 import re
 import tomllib
-from pathlib import Path
 
-from phonglab.scene.loader import (
+from phonglab.scene.errors import SceneError, did_you_mean
+from phonglab.scene.schema import (
     AREA_LIGHT_KEYS,
     CAMERA_KEYS,
     GEOMETRY_KEYS,
+    HOMOGENEOUS_TYPES,
     LIGHT_KEYS,
     MATERIAL_KEYS,
     SCENE_KEYS,
     light_type,
-    scene_from_dict,
+    table_light_type,
 )
-from phonglab.scene.model import Scene, SceneError, did_you_mean
 
 _SEGMENT = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)")
 _INDEX = re.compile(r"\[(\d+)\]")
 _PATH_RULE = "must be a field path such as material.ks, lights[1].position or camera.eye"
 
-#: light types whose position may be given as homogeneous = [x, y, z, w]
-_HOMOGENEOUS_TYPES = ("point", "directional")
 
 
 def parse_path(path: str) -> list[str | int]:
@@ -77,14 +74,14 @@ def check_path_shape(path: str) -> list[str | int]:
     tables = {"geometry": GEOMETRY_KEYS, "material": MATERIAL_KEYS, "camera": CAMERA_KEYS}
     light_keys = ("type", "homogeneous") + tuple(dict.fromkeys(k for keys in LIGHT_KEYS.values() for k in keys))
     if parts[0] not in SCENE_KEYS:
-        raise _no_field(path, parts, 0, SCENE_KEYS)
+        raise no_field(path, parts, 0, SCENE_KEYS)
     if parts[0] in tables and len(parts) > 1 and parts[1] not in tables[parts[0]]:
-        raise _no_field(path, parts, 1, tables[parts[0]])
+        raise no_field(path, parts, 1, tables[parts[0]])
     if parts[0] == "lights" and len(parts) > 1:
         if not isinstance(parts[1], int):
             raise SceneError("must index a light, as in lights[1].position", field=path)
         if len(parts) > 2 and parts[2] not in light_keys:
-            raise _no_field(path, parts, 2, light_keys)
+            raise no_field(path, parts, 2, light_keys)
     return parts
 
 
@@ -96,14 +93,14 @@ def format_path(parts) -> str:
     return text
 
 
-def _plain(value):
+def plain(value):
     """Tuples and arrays as lists, recursively: the form tomllib gives."""
     if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
         value = value.tolist()
     if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
+        return [plain(v) for v in value]
     if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
+        return {k: plain(v) for k, v in value.items()}
     return value
 
 
@@ -114,11 +111,11 @@ def light_to_dict(light) -> dict:
     for key in LIGHT_KEYS[kind]:
         value = getattr(light, key)
         if value is not None:
-            table[key] = _plain(value)
+            table[key] = plain(value)
     return table
 
 
-def scene_to_dict(scene: Scene) -> dict:
+def scene_to_dict(scene) -> dict:
     """The scene as the dictionary its TOML file would parse to."""
     g = scene.geometry
     geometry = {"kind": g.kind, "resolution": g.resolution}
@@ -133,20 +130,20 @@ def scene_to_dict(scene: Scene) -> dict:
         "interpolation": scene.interpolation,
         "two_sided": scene.two_sided,
         "geometry": geometry,
-        "material": {k: _plain(getattr(m, k)) for k in MATERIAL_KEYS},
+        "material": {k: plain(getattr(m, k)) for k in MATERIAL_KEYS},
         "lights": [light_to_dict(light) for light in scene.lights],
-        "camera": {k: _plain(getattr(scene.camera, k)) for k in CAMERA_KEYS},
+        "camera": {k: plain(getattr(scene.camera, k)) for k in CAMERA_KEYS},
     }
     if scene.probe is not None:
         data["probe"] = list(scene.probe)
     if scene.area_light is not None:
         area = scene.area_light
-        data["area_light"] = {k: _plain(getattr(area.light, k)) for k in AREA_LIGHT_KEYS[:5]}
+        data["area_light"] = {k: plain(getattr(area.light, k)) for k in AREA_LIGHT_KEYS[:5]}
         data["area_light"].update(method=area.method, samples=area.samples)
     return data
 
 
-def _keys_for(data: dict, parts: list) -> tuple[str, ...] | None:
+def keys_for(data: dict, parts: list) -> tuple[str, ...] | None:
     """The keys allowed in the table at ``parts``; None when it is not a table of the format."""
     if not parts:
         return SCENE_KEYS
@@ -159,41 +156,37 @@ def _keys_for(data: dict, parts: list) -> tuple[str, ...] | None:
     if parts == ["area_light"]:
         return AREA_LIGHT_KEYS
     if len(parts) == 2 and parts[0] == "lights":
-        light = data["lights"][parts[1]]
-        kind = light.get("type")
-        if kind is None:  # given as homogeneous = [x, y, z, w]: w says which
-            hom = light.get("homogeneous")
-            kind = "directional" if isinstance(hom, list) and len(hom) == 4 and hom[3] == 0 else "point"
-        extra = ("homogeneous",) if kind in _HOMOGENEOUS_TYPES else ()
+        kind = table_light_type(data["lights"][parts[1]])
+        extra = ("homogeneous",) if kind in HOMOGENEOUS_TYPES else ()
         return ("type",) + LIGHT_KEYS[kind] + extra
     return None
 
 
-def _no_field(path, parts, i, keys, hint=None):
+def no_field(path, parts, i, keys, hint=None):
     near = did_you_mean(parts[i], keys) if keys else None
     listing = ("allowed here: " + ", ".join(keys)) if keys else None
     hint = hint or (f"{near} ({listing})" if near else listing)
     return SceneError("no such field", field=path, hint=hint)
 
 
-def _homogeneous_of(light: dict) -> list:
+def homogeneous_of(light: dict) -> list:
     """The ``[x, y, z, w]`` form of a point or directional light table."""
     if light["type"] == "point":
         return list(light["position"]) + [1.0]
     return list(light["direction"]) + [0.0]
 
 
-def _locate(data: dict, path: str, parts: list):
+def locate_field(data: dict, path: str, parts: list):
     """Walk ``parts`` through ``data``; return (container, key) of the field, checked against the format."""
     node = data
     for i, part in enumerate(parts):
         last = i == len(parts) - 1
         if isinstance(part, str):
-            keys = _keys_for(data, parts[:i]) if isinstance(node, dict) else None
+            keys = keys_for(data, parts[:i]) if isinstance(node, dict) else None
             if keys is None or part not in keys:
-                raise _no_field(path, parts, i, keys)
+                raise no_field(path, parts, i, keys)
             if part == "homogeneous" and not last:
-                node[part] = _homogeneous_of(node)  # index into [x, y, z, w]
+                node[part] = homogeneous_of(node)  # index into [x, y, z, w]
             if last:
                 return node, part
             if part not in node:  # an optional field left out (probe, a light's diffuse)
@@ -213,7 +206,7 @@ def _locate(data: dict, path: str, parts: list):
     raise SceneError(_PATH_RULE, value=path)
 
 
-def field_value(scene: Scene, path: str):
+def field_value(scene, path: str):
     """The current value at ``path``, in file form (lists, not tuples).
 
     Raises
@@ -223,133 +216,12 @@ def field_value(scene: Scene, path: str):
     """
     parts = parse_path(path)
     data = scene_to_dict(scene)
-    container, key = _locate(data, path, parts)
+    container, key = locate_field(data, path, parts)
     if isinstance(container, dict) and key not in container:
         if key == "homogeneous":
-            return _homogeneous_of(container)
+            return homogeneous_of(container)
         return None
     return container[key]
-
-
-def replace_field(scene: Scene, path: str, value) -> Scene:
-    """A copy of ``scene`` with the field at ``path`` set to ``value`` (see :meth:`Scene.replace`).
-
-    ``None`` removes an optional field (``probe``, a light's ``diffuse``).
-    Setting ``lights[i].homogeneous`` (or one of its four entries) turns the
-    light into a point light (w > 0) or a directional one (w = 0); setting
-    ``lights[i].type`` carries the light over (see ``_carry_light_over``) and
-    keeps only the keys the new type has.
-
-    Raises
-    ------
-    SceneError
-        A bad path (naming the path and the fields allowed there) or a bad
-        value (naming the path, the value and what is allowed).
-    """
-    data = scene_to_dict(scene)
-    _assign(scene, data, path, value)
-    return _build(scene, data)
-
-
-def replace_fields(scene: Scene, settings) -> Scene:
-    """A copy of ``scene`` with every ``(path, value)`` of ``settings`` applied, validated once.
-
-    The settings are applied in order to the scene's table and the result is
-    checked as a whole, so an experiment may move the eye and the up vector
-    together, or turn a point light into a spotlight and set its cone, with no
-    half-done state checked in between. Errors are as in :func:`replace_field`.
-    """
-    data = scene_to_dict(scene)
-    for path, value in settings:
-        _assign(scene, data, path, value)
-    return _build(scene, data)
-
-
-def settings_problems(scene: Scene, settings) -> list[tuple[str | None, SceneError]]:
-    """Every problem of applying ``settings`` together, as ``(setting path or None, error)``.
-
-    A path that does not exist is blamed on its setting and left out; the
-    rest are applied together and the resulting scene checked once, its
-    errors blamed on the setting that wrote the field (None when no setting
-    did, e.g. a light that a type change left incomplete).
-    """
-    data = scene_to_dict(scene)
-    found: list[tuple[str | None, SceneError]] = []
-    applied = []
-    for path, value in settings:
-        try:
-            _assign(scene, data, path, value)
-            applied.append(path)
-        except SceneError as exc:
-            found.append((path, exc))
-    try:
-        _build(scene, data)
-    except SceneError as exc:
-        for error in getattr(exc, "errors", [exc]):
-            culprit = next((p for p in reversed(applied) if error.field and (
-                error.field == p or error.field.startswith((p + ".", p + "[")) or p.startswith(error.field))), None)
-            found.append((culprit, error))
-    return found
-
-
-def _build(scene: Scene, data: dict) -> Scene:
-    """The scene ``data`` describes, checked; relative mesh paths resolve as for ``scene``."""
-    base_dir = Path(scene.source).resolve().parent if scene.source else None
-    return scene_from_dict(data, source=scene.source, base_dir=base_dir)
-
-
-def _assign(scene: Scene, data: dict, path: str, value) -> None:
-    """Set ``path`` to ``value`` in ``data``, the table form of ``scene`` (checked later)."""
-    parts = parse_path(path)
-    container, key = _locate(data, path, parts)
-    value = _plain(value)
-    if isinstance(container, list):
-        container[key] = value
-    elif value is None:
-        container.pop(key, None)
-    else:
-        container[key] = value
-    # a light table that changed form
-    if len(parts) >= 3 and parts[0] == "lights" and parts[2] == "homogeneous":
-        light = data["lights"][parts[1]]
-        for stale in ("type", "position", "direction"):
-            light.pop(stale, None)
-        hom = light.get("homogeneous")
-        if isinstance(hom, list) and len(hom) == 4 and hom[3] == 0:
-            light.pop("attenuation", None)  # a directional light has no distance
-    elif len(parts) == 3 and parts[0] == "lights" and parts[2] == "type" and value in LIGHT_KEYS:
-        light = data["lights"][parts[1]]
-        _carry_light_over(light, light_type(scene.lights[parts[1]]), value,
-                          data.get("camera", {}).get("focal_point", (0.0, 0.0, 0.0)))
-        for stale in [k for k in light if k != "type" and k not in LIGHT_KEYS[value]]:
-            del light[stale]
-
-
-#: distance from the scene's centre at which a directional light turned into a point light is placed
-CONVERTED_LIGHT_DISTANCE = 4.0
-
-
-def _carry_light_over(light: dict, old_type: str, new_type: str, centre) -> None:
-    """Fill what a light of ``new_type`` needs from what the light was, in place.
-
-    The light stays where the student put it: a point light becomes a
-    directional light shining from the same side of the scene's centre
-    (``centre`` is the camera's focal point), a directional light becomes a
-    point light at ``CONVERTED_LIGHT_DISTANCE`` along its direction, and a
-    new spotlight is aimed at the centre with a 30° cone.
-    """
-    centre = [float(c) for c in centre]
-    position, direction = light.get("position"), light.get("direction")
-    if new_type in ("point", "spot") and position is None and direction is not None:
-        norm = sum(float(c) ** 2 for c in direction) ** 0.5 or 1.0
-        light["position"] = [c + CONVERTED_LIGHT_DISTANCE * float(d) / norm for c, d in zip(centre, direction)]
-    if new_type == "directional" and position is not None:
-        towards = [float(p) - c for p, c in zip(position, centre)]
-        light["direction"] = towards if any(towards) else [0.0, 0.0, 1.0]
-    if new_type == "spot" and old_type != "spot":
-        aim = [c - float(p) for c, p in zip(centre, light["position"])]
-        light["direction"] = aim if any(aim) else [0.0, 0.0, -1.0]
-        light.setdefault("cutoff", 30.0)
 
 
 def parse_value(text: str):

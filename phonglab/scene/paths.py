@@ -12,7 +12,7 @@ import importlib.util
 import os
 from pathlib import Path
 
-from phonglab.scene.model import SceneError, did_you_mean
+from phonglab.scene.errors import SceneError, did_you_mean
 
 #: meshes that ship inside the pyvista package (``pyvista/examples/``), by name
 PYVISTA_MESHES = {
@@ -39,6 +39,18 @@ def pyvista_examples_dir() -> Path | None:
     return Path(list(spec.submodule_search_locations)[0]) / "examples"
 
 
+def check_mesh_name(name) -> str:
+    """``name`` if it is one of :data:`PYVISTA_MESHES`; SceneError otherwise (no file is looked at)."""
+    if name not in PYVISTA_MESHES:
+        raise SceneError(
+            "must be one of " + ", ".join(f'"{n}"' for n in PYVISTA_MESHES) + " (meshes shipped with pyvista)",
+            field="name",
+            value=name,
+            hint=did_you_mean(name, PYVISTA_MESHES),
+        )
+    return name
+
+
 def pyvista_mesh_path(name: str) -> Path:
     """The file of the shipped mesh ``name``.
 
@@ -47,13 +59,7 @@ def pyvista_mesh_path(name: str) -> Path:
     SceneError
         If ``name`` is not one of :data:`PYVISTA_MESHES` or its file is absent.
     """
-    if name not in PYVISTA_MESHES:
-        raise SceneError(
-            "must be one of " + ", ".join(f'"{n}"' for n in PYVISTA_MESHES) + " (meshes shipped with pyvista)",
-            field="name",
-            value=name,
-            hint=did_you_mean(name, PYVISTA_MESHES),
-        )
+    check_mesh_name(name)
     folder = pyvista_examples_dir()
     path = folder / PYVISTA_MESHES[name] if folder else None
     if path is None or not path.is_file():
@@ -103,19 +109,14 @@ def resolve_mesh_path(path: str, base_dir: str | os.PathLike | None = None) -> s
     )
 
 
-def check_geometry_source(kind: str, name, path, base_dir=None) -> tuple[str | None, str | None]:
-    """Check ``name`` and ``path`` against the geometry ``kind``.
-
-    Returns
-    -------
-    (name, path)
-        ``path`` made absolute for ``kind="file"``.
+def check_geometry_source(kind: str, name, path) -> None:
+    """Check that ``name`` and ``path`` fit the geometry ``kind``, without looking at any file.
 
     Raises
     ------
     SceneError
         A name on a kind other than "pyvista", a path on a kind other than
-        "file", a missing or unknown name, a missing or unreadable file.
+        "file", a missing name or path, a name that is not a shipped mesh.
     """
     if kind != "pyvista" and name is not None:
         raise SceneError('is only used with kind = "pyvista"', field="name", value=name)
@@ -127,18 +128,25 @@ def check_geometry_source(kind: str, name, path, base_dir=None) -> tuple[str | N
                 'is required with kind = "pyvista"; one of ' + ", ".join(f'"{n}"' for n in PYVISTA_MESHES),
                 field="name",
             )
-        pyvista_mesh_path(name)
+        check_mesh_name(name)
+    if kind == "file" and path is None:
+        raise SceneError('is required with kind = "file": a mesh file such as "meshes/bunny.ply"', field="path")
+
+
+def find_mesh_file(kind: str, name, path, base_dir=None) -> str | None:
+    """The mesh file a geometry reads, checked on disk; None for the parametric kinds.
+
+    Called once, when a scene is loaded: the shipped mesh must be present in
+    the installed pyvista, a ``kind = "file"`` path must name an existing
+    mesh file (see :func:`resolve_mesh_path`; the result is absolute).
+
+    Raises
+    ------
+    SceneError
+        A shipped mesh missing from pyvista, a path that is not a mesh file.
+    """
+    if kind == "pyvista":
+        return str(pyvista_mesh_path(name))
     if kind == "file":
-        if path is None:
-            raise SceneError('is required with kind = "file": a mesh file such as "meshes/bunny.ply"', field="path")
-        path = resolve_mesh_path(path, base_dir)
-    return name, path
-
-
-def mesh_file(geometry) -> Path | None:
-    """The file to read for a geometry: the shipped mesh or the file; None if parametric."""
-    if geometry.kind == "pyvista":
-        return pyvista_mesh_path(geometry.name)
-    if geometry.kind == "file":
-        return Path(geometry.path)
+        return resolve_mesh_path(path, base_dir)
     return None

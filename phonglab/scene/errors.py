@@ -1,0 +1,152 @@
+"""Scene errors: what is wrong, where, and how it is shown.
+
+A :class:`SceneError` names the field path, the bad value and what is
+allowed; the file loader adds the file name and line. The message reads
+``FILE:LINE: field.path: problem, got VALUE; hint``, with the unknown parts
+left out. Values are shown as they would be written in TOML
+(:func:`show_value`). This module is the bottom of the scene layer: it
+imports nothing from phonglab.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from typing import Any
+
+
+class SceneError(ValueError):
+    """A scene or lesson field is wrong.
+
+    The message reads ``FILE:LINE: field.path: problem, got VALUE; hint``;
+    the parts that are unknown are left out.
+
+    Parameters
+    ----------
+    problem : str
+        What is wrong, phrased as what is allowed ("must be a finite number >= 0").
+    field : str, optional
+        The field path ("material.shininess", "lights[1].position").
+    value : object, optional
+        The bad value; shown TOML-style after "got".
+    hint : str, optional
+        A suggestion ("did you mean \"shininess\"?").
+    file : str, optional
+        The file the value came from.
+    line : int, optional
+        The 1-based line of the value in that file.
+    """
+
+    _NO_VALUE = object()
+
+    def __init__(self, problem, *, field=None, value=_NO_VALUE, hint=None, file=None, line=None):
+        self.problem = problem
+        self.field = field
+        self.value = value
+        self.hint = hint
+        self.file = file
+        self.line = line
+        super().__init__(self._text())
+
+    @property
+    def has_value(self) -> bool:
+        """Whether the error carries a bad value."""
+        return self.value is not SceneError._NO_VALUE
+
+    def _text(self) -> str:
+        where = ""
+        if self.file:
+            where = f"{self.file}:{self.line}: " if self.line else f"{self.file}: "
+        text = where + (f"{self.field}: " if self.field else "") + self.problem
+        if self.has_value:
+            text += f", got {show_value(self.value)}"
+        if self.hint:
+            text += f"; {self.hint}"
+        return text
+
+    def located(self, *, file=None, line=None, field=None) -> "SceneError":
+        """A copy with the file, line or a field prefix filled in.
+
+        Parameters
+        ----------
+        file, line : optional
+            Used only where this error has none yet.
+        field : str, optional
+            A field path prepended to this error's own ("lights[1]" + "position").
+        """
+        path = self.field
+        if field:
+            path = join_path(field, self.field) if self.field else field
+        return SceneError(
+            self.problem,
+            field=path,
+            value=self.value,
+            hint=self.hint,
+            file=self.file or file,
+            line=self.line or line,
+        )
+
+
+class SceneErrors(SceneError):
+    """Several :class:`SceneError` at once, one per line of the message.
+
+    Parameters
+    ----------
+    errors : list of SceneError
+        At least one error; the first one's parts fill this error's attributes.
+    """
+
+    def __init__(self, errors):
+        self.errors = list(errors)
+        if not self.errors:
+            raise ValueError("SceneErrors needs at least one error")
+        first = self.errors[0]
+        ValueError.__init__(self, "\n".join(str(e) for e in self.errors))
+        self.problem, self.field, self.value = first.problem, first.field, first.value
+        self.hint, self.file, self.line = first.hint, first.file, first.line
+
+    def __iter__(self):
+        return iter(self.errors)
+
+    def __len__(self):
+        return len(self.errors)
+
+    def located(self, *, file=None, line=None, field=None) -> "SceneErrors":
+        return SceneErrors([e.located(file=file, line=line, field=field) for e in self.errors])
+
+
+def show_value(value: Any) -> str:
+    """Render a value as it would be written in TOML (``true``, ``"text"``, ``[1, 2]``)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if value is None:
+        return "nothing"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, float) and value.is_integer() and abs(value) < 1e16:
+        return str(int(value)) if value != 0 or math.copysign(1, value) > 0 else "-0"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {show_value(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(show_value(v) for v in value) + "]"
+    if hasattr(value, "tolist"):  # NumPy scalars and arrays
+        return show_value(value.tolist())
+    return str(value)
+
+
+def join_path(parent: str, child: str) -> str:
+    """Join two field paths: ``join_path("lights[1]", "position")`` is ``lights[1].position``."""
+    if not parent:
+        return child
+    if not child:
+        return parent
+    return parent + child if child.startswith("[") else f"{parent}.{child}"
+
+
+def did_you_mean(word: str, allowed) -> str | None:
+    """A ``did you mean "x"?`` hint for a near miss among ``allowed``, else None."""
+    close = difflib.get_close_matches(str(word), [str(a) for a in allowed], n=1, cutoff=0.6)
+    return f'did you mean "{close[0]}"?' if close else None
+
+
+__all__ = ["SceneError", "SceneErrors", "show_value", "join_path", "did_you_mean"]

@@ -1,0 +1,128 @@
+"""The scene file format: which keys each table allows, kinds, ranges and defaults.
+
+One table per part of a scene file (``[geometry]``, ``[material]``,
+``[[lights]]``, ``[camera]``, ``[area_light]``, a lesson's extra keys). The
+loader, the field-path editor and the lesson reader all read these tables,
+so a key is allowed in a file exactly where a field path may name it.
+
+Material and light values are checked by the core (``phonglab.core.Material``
+and the lights) and nowhere else; :data:`CORE_FIELDS` only says which TOML
+shape each such key takes and, where the file's words differ from the core's,
+how the rule is phrased for a scene file.
+"""
+
+from __future__ import annotations
+
+from phonglab import core
+
+# ---------------------------------------------------------------------------
+# kinds, ranges and defaults
+
+#: geometry kinds built from a formula, with a resolution
+PARAMETRIC_KINDS = ("sphere", "torus", "plane", "cube", "cylinder", "supertoroid")
+#: every geometry kind
+GEOMETRY_KINDS = PARAMETRIC_KINDS + ("pyvista", "file")
+#: reflection models the core implements
+MODELS = core.MODELS
+#: how colours are interpolated across a triangle
+INTERPOLATIONS = ("flat", "gouraud", "pixel")
+#: resolution bounds for parametric meshes (segments around)
+RESOLUTION_RANGE = (3, 1024)
+#: how an area light's contribution is evaluated (see phonglab.core.area_irradiance)
+AREA_METHODS = core.AREA_METHODS
+#: Monte Carlo samples per point of an area light
+AREA_SAMPLES_RANGE = (1, 4096)
+#: a scene's options when its file leaves them out
+SCENE_DEFAULTS = {"title": "", "model": "phong", "interpolation": "gouraud", "two_sided": False, "probe": None}
+
+# ---------------------------------------------------------------------------
+# which keys each table allows
+
+#: keys of a scene file's top level
+SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "geometry", "material", "lights", "camera",
+              "area_light")
+#: further top-level keys of a lesson's front matter
+LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake")
+GEOMETRY_KEYS = ("kind", "resolution", "name", "path")
+MATERIAL_KEYS = ("ka", "kd", "ks", "shininess", "emission", "opacity")
+MATERIAL_REQUIRED = ("ka", "kd", "ks", "shininess")
+CAMERA_KEYS = ("eye", "focal_point", "up", "view_angle", "infinite_viewer")
+#: the [area_light] table: the core AreaLight's fields, then how it is evaluated
+AREA_LIGHT_KEYS = ("position", "edge_u", "edge_v", "color", "intensity", "method", "samples")
+EXPERIMENT_KEYS = ("label", "text", "set")
+#: light type -> keys allowed in its table (besides "type")
+LIGHT_KEYS = {
+    "ambient": ("color", "intensity"),
+    "point": ("position", "color", "intensity", "diffuse", "specular", "attenuation"),
+    "directional": ("direction", "color", "intensity", "diffuse", "specular"),
+    "spot": ("position", "direction", "cutoff", "exponent", "color", "intensity", "diffuse", "specular", "attenuation"),
+}
+#: keys a light table must have, by type
+LIGHT_REQUIRED = {"ambient": (), "point": ("position",), "directional": ("direction",), "spot": ("position", "direction")}
+#: keys allowed next to ``homogeneous = [x, y, z, w]`` (type then follows from w)
+HOMOGENEOUS_KEYS = ("type", "homogeneous", "color", "intensity", "diffuse", "specular", "attenuation")
+#: light types whose position may be given as homogeneous = [x, y, z, w]
+HOMOGENEOUS_TYPES = ("point", "directional")
+#: light type -> core class
+LIGHT_CLASSES = {
+    "ambient": core.AmbientLight,
+    "point": core.PointLight,
+    "directional": core.DirectionalLight,
+    "spot": core.SpotLight,
+}
+
+# ---------------------------------------------------------------------------
+# material, light and area-light values: shape in the file, rule in the file's words
+
+RGB_RULE = "must be a finite number >= 0 or a list of 3 of them (RGB)"
+VECTOR_RULE = "must be a list of 3 finite numbers"
+NUMBER_RULE = "must be a finite number >= 0"
+HOMOGENEOUS_RULE = (
+    "must be a list of 4 finite numbers [x, y, z, w] with w >= 0 (w = 0 directional, w = 1 point)"
+)
+#: what a value of each shape must be when no rule is given (shown for a value of the wrong TOML type)
+SHAPE_RULES = {
+    "number": "must be a finite number",
+    "rgb": RGB_RULE,
+    "vector": VECTOR_RULE,
+    "homogeneous": HOMOGENEOUS_RULE,
+}
+#: key -> (shape of its TOML value, rule in the file's words or None for the core's own words).
+#: The core decides which values are allowed; the rule only phrases its refusal for a file.
+CORE_FIELDS = {
+    "ka": ("rgb", RGB_RULE),
+    "kd": ("rgb", RGB_RULE),
+    "ks": ("rgb", RGB_RULE),
+    "emission": ("rgb", RGB_RULE),
+    "color": ("rgb", RGB_RULE),
+    "diffuse": ("rgb", RGB_RULE),
+    "specular": ("rgb", RGB_RULE),
+    "shininess": ("number", NUMBER_RULE),
+    "intensity": ("number", NUMBER_RULE),
+    "exponent": ("number", NUMBER_RULE),
+    "opacity": ("number", "must be a finite number in [0, 1]"),
+    "position": ("vector", VECTOR_RULE),
+    "direction": ("vector", VECTOR_RULE + ", not all zero"),
+    "attenuation": ("vector", None),  # the core states the a + b·d + c·d² > 0 rule
+    "cutoff": ("number", None),  # the core states the half-angle rule
+    "edge_u": ("vector", None),  # the core states "not all zero" and "not parallel"
+    "edge_v": ("vector", None),
+    "homogeneous": ("homogeneous", HOMOGENEOUS_RULE),
+}
+
+
+def light_type(light) -> str:
+    """The file-format type name of a core light ("spot", "point", ...)."""
+    for name in ("spot", "point", "directional", "ambient"):  # SpotLight is a PointLight: test it first
+        if isinstance(light, LIGHT_CLASSES[name]):
+            return name
+    raise TypeError(f"not a phonglab light: {light!r}")
+
+
+def table_light_type(table: dict) -> str | None:
+    """The type of a ``[[lights]]`` table: its ``type``, else what ``homogeneous``'s w says."""
+    kind = table.get("type")
+    if kind is None and "homogeneous" in table:
+        hom = table["homogeneous"]
+        return "directional" if isinstance(hom, (list, tuple)) and len(hom) == 4 and hom[3] == 0 else "point"
+    return kind
