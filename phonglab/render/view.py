@@ -34,9 +34,13 @@ material never refits it. Once the VTK camera has been moved off the scene's
 eye (a browser's camera copied in), the view angle is left as it was set
 until the scene's camera is applied again.
 
-Picking and projecting live in :mod:`phonglab.render.picking`, per-pixel
-shading and its compositing with the glyphs in :mod:`phonglab.render.pixels`,
-writing PNGs in :mod:`phonglab.render.saving`.
+SceneView ties together: the actors (:mod:`~phonglab.render.actors`), the
+probe and its vectors from the core (:mod:`~phonglab.render.probe`,
+:mod:`~phonglab.render.arrows`), the camera check
+(:mod:`~phonglab.render.camera`), picking and projecting
+(:mod:`~phonglab.render.picking`), per-pixel shading composited with the
+glyphs (:mod:`~phonglab.render.pixels`) and PNG writing
+(:mod:`~phonglab.render.saving`).
 
 Directions point *away from the surface point*: every arrow starts at the probe.
 """
@@ -171,9 +175,6 @@ class SceneView:
         self._update_vectors()
         self._update_markers()
         self._update_eye_marker()
-
-    # ------------------------------------------------------------------
-    # building blocks
 
     def _set_mesh(self, mesh: pv.PolyData) -> None:
         """Show a new mesh (geometry changed): colour arrays sized for it."""
