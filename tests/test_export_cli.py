@@ -241,10 +241,10 @@ def test_mistake_lesson_compare_writes_the_side_by_side_figure(lesson_file, out_
     from phonglab.render import figures
 
     texts, placed = [], []
-    save, place = figures.save_figure, figures._place
+    save, place = figures.save_figure, figures.place
     monkeypatch.setattr(figures, "save_figure", lambda fig, path, ext: (
         texts.extend(t.get_text() for t in fig.texts), save(fig, path, ext)))
-    monkeypatch.setattr(figures, "_place", lambda fig, image, box, size: (
+    monkeypatch.setattr(figures, "place", lambda fig, image, box, size: (
         placed.append(image.copy()), place(fig, image, box, size)))
     out = out_dir / "compare.png"
     code = export(lesson_file, "-o", out, "--mistake", "lesson", "--compare", "--size", "320x180",

@@ -10,15 +10,9 @@ import pytest
 pytest.importorskip("vtk")
 
 import phonglab as pl  # noqa: E402
-from phonglab.render.figures import (  # noqa: E402
-    FigureError,
-    _grid_layout,
-    figure,
-    parse_size,
-    parse_sweep,
-    render,
-    split_values,
-)
+from phonglab.render import FigureError, figure, render  # noqa: E402
+from phonglab.render.layout import grid_layout  # noqa: E402
+from phonglab.render.options import parse_size, parse_sweep, split_values  # noqa: E402
 from phonglab.render.plots import half_width  # noqa: E402
 from phonglab.scene import Camera, Geometry, Scene, SceneError  # noqa: E402
 
@@ -89,7 +83,7 @@ def test_sweep_grid_renders_every_cell_with_progress(tmp_path):
     assert [c[:2] for c in calls] == [(1, 4), (2, 4), (3, 4), (4, 4)], calls
     assert calls[0][2] == "material.ks=0, material.shininess=4", calls[0][2]
     image = read_png(out)
-    boxes, _ = _grid_layout(size, 2, 2, title=True, row_labels=True, col_labels=True)
+    boxes, _ = grid_layout(size, 2, 2, title=True, row_labels=True, col_labels=True)
     cells = [image[y:y + h, x:x + w] for row in boxes for (x, y, w, h) in row]
     # ks = 0: no highlight, the shininess makes no difference; ks = 0.9: it does
     assert np.array_equal(cells[0], cells[1]), "ks = 0 cells differ although specular is off"
@@ -119,9 +113,10 @@ def test_ambient_panel_label_states_ka_ia(changes, expected):
     import matplotlib.pyplot as plt
 
     from phonglab.render import figures
+    from phonglab.render.captions import ambient_value
 
     s = scene(**changes)
-    assert figures.ambient_value(s) == expected, f"{changes}: {figures.ambient_value(s)!r}"
+    assert ambient_value(s) == expected, f"{changes}: {ambient_value(s)!r}"
     fig = figures._terms_figure(s, (240, 180), "", 1, figures.BACKGROUND, None)
     try:
         labels = [t.get_text() for t in fig.texts]

@@ -14,8 +14,8 @@ import pytest
 pytest.importorskip("vtk")
 
 import phonglab as pl  # noqa: E402
-from phonglab.render import figures, glyphs, shading  # noqa: E402
-from phonglab.render.figures import FigureError, figure  # noqa: E402
+from phonglab.render import figures, glyphs, options, shading  # noqa: E402
+from phonglab.render import FigureError, figure  # noqa: E402
 from phonglab.render.mesh import face_centroids_normals  # noqa: E402
 from phonglab.render.view import SceneView  # noqa: E402
 from phonglab.scene import Camera, Geometry, Scene  # noqa: E402
@@ -88,7 +88,7 @@ def pixel_geometry(scene, size):
     """The G-buffer of ``scene`` at ``size`` and n·l, r·v, |raw normal| for its covered pixels."""
     view = SceneView(scene, size=size, vectors=None)
     try:
-        g = view._gbuffer()
+        g = view.gbuffer()
     finally:
         view.close()
     nl, rv = geometry_terms(scene, g.positions[g.mask], g.normals[g.mask])
@@ -99,7 +99,7 @@ def pixel_geometry(scene, size):
 def compare_through_figure(monkeypatch, tmp_path, scene, mistake, **options):
     """Export a comparison figure; return the PNG, the two placed cell images with their boxes, and the texts."""
     placed, texts = [], []
-    place, save = figures._place, figures.save_figure
+    place, save = figures.place, figures.save_figure
 
     def record_place(fig, image, box, size):
         placed.append((np.array(image), box))
@@ -109,7 +109,7 @@ def compare_through_figure(monkeypatch, tmp_path, scene, mistake, **options):
         texts.extend(t.get_text() for t in fig.texts)
         save(fig, path, ext)
 
-    monkeypatch.setattr(figures, "_place", record_place)
+    monkeypatch.setattr(figures, "place", record_place)
     monkeypatch.setattr(figures, "save_figure", record_save)
     out = figure(scene, tmp_path / f"{mistake}.png", size=COMPARE_SIZE, supersample=1, mistake=mistake,
                  compare=True, **options)
@@ -271,8 +271,8 @@ def test_single_render_is_labelled_deliberately_wrong(monkeypatch, tmp_path, mis
 def test_single_render_shows_the_mistake_inside_the_frame(monkeypatch, tmp_path):
     # the render placed under the band is the mistaken one: compare with render() at the same size
     placed = []
-    place = figures._place
-    monkeypatch.setattr(figures, "_place", lambda fig, image, box, size: (placed.append((image, box)),
+    place = figures.place
+    monkeypatch.setattr(figures, "place", lambda fig, image, box, size: (placed.append((image, box)),
                                                                              place(fig, image, box, size)))
     scene = SCENES["zero-shininess"]
     figure(scene, tmp_path / "one.png", size=(240, 200), supersample=1, vectors=None, mistake="zero-shininess")
@@ -287,8 +287,8 @@ def test_terms_show_the_wrong_terms(monkeypatch, tmp_path):
     # zero shininess changes the specular term (and the sum) only
     scene = SCENES["zero-shininess"]
     placed = []
-    place = figures._place
-    monkeypatch.setattr(figures, "_place", lambda fig, image, box, size: (
+    place = figures.place
+    monkeypatch.setattr(figures, "place", lambda fig, image, box, size: (
         placed.append((np.array(image), box)), place(fig, image, box, size)))
     texts = figure_texts(monkeypatch, tmp_path, scene, size=(480, 200), terms=True, mistake="zero-shininess")
     assert len(placed) == 4, f"{len(placed)} panels"
@@ -320,7 +320,7 @@ def test_lesson_mistake_is_looked_up(tmp_path):
     lesson.write_text(front)
     from phonglab.scene import load
 
-    assert figures.resolve_mistake("lesson", load(lesson)) == "zero-shininess"
+    assert options.resolve_mistake("lesson", load(lesson)) == "zero-shininess"
     out = figure(str(lesson), tmp_path / "lesson.png", size=(200, 150), mistake="lesson", supersample=1)
     assert out.stat().st_size > 1000
     lesson.write_text(front.replace('mistake = "zero-shininess"\n', ""))
@@ -450,7 +450,7 @@ def test_raw_normals_are_the_renormalised_ones_scaled():
     # the G-buffer's raw normals point the same way as the unit normals and are at most 1 long
     view = SceneView(SCENES["unnormalised-normals"], size=(80, 60), vectors=None)
     try:
-        g = view._gbuffer()
+        g = view.gbuffer()
     finally:
         view.close()
     raw, unit = g.raw_normals[g.mask].astype(float), g.normals[g.mask].astype(float)

@@ -176,7 +176,7 @@ def test_pixel_image_is_the_core_on_the_gbuffer():
     view = SceneView(scene, size=SIZE, vectors=None, labels=False, markers=False, background=(0.2, 0.4, 0.6))
     try:
         image = view.pixel_image()
-        g = view._gbuffer()
+        g = view.gbuffer()
     finally:
         view.close()
     core = scene_shade(scene, g.positions[g.mask], g.normals[g.mask]).color

@@ -76,7 +76,7 @@ def test_vectors_at_probe_are_the_core_vectors(view):
     for name in "nlrvh":
         assert np.allclose(getattr(vec, name), getattr(expected, name)), f"{name}: {getattr(vec, name)}"
     # each arrow starts at the probe and points along its vector
-    for letter, (data, actor) in view._arrows.items():
+    for letter, (data, actor) in view.glyph_actors.arrows.items():
         assert actor.GetVisibility()
         pts = np.asarray(data.GetPoints().GetData())
         d = getattr(vec, letter.lower())
@@ -88,7 +88,7 @@ def test_set_probe_moves_the_arrows_to_the_nearest_surface_point(view):
     view.set_probe((-3.0, 0.0, 0.0))
     point, normal = view.probe
     assert point[0] < -0.99 and normal[0] < -0.99, f"probe {point}, normal {normal}"
-    pts = np.asarray(view._arrows["N"][0].GetPoints().GetData())
+    pts = np.asarray(view.glyph_actors.arrows["N"].data.GetPoints().GetData())
     assert pts[:, 0].min() < -1 - 0.9 * view.arrow_length, f"the N arrow did not move: x from {pts[:, 0].min()}"
     view.set_probe(None)  # default: where the eye's line of sight hits
     assert view.probe[0][2] > 0.99, f"default probe {view.probe[0]}"
@@ -96,7 +96,7 @@ def test_set_probe_moves_the_arrows_to_the_nearest_surface_point(view):
 
 def test_choosing_vectors_hides_the_others(view):
     view.set_vectors("N,V")
-    shown = {letter for letter, (_, actor) in view._arrows.items() if actor.GetVisibility()}
+    shown = {letter for letter, (_, actor) in view.glyph_actors.arrows.items() if actor.GetVisibility()}
     assert shown == {"N", "V"}, shown
     assert [e[0] for e in view.legend()] == ["N", "V"]
     with pytest.raises(ValueError, match="Q"):
@@ -106,22 +106,22 @@ def test_choosing_vectors_hides_the_others(view):
 def test_light_markers_match_light_kinds(view):
     view.update(red_sphere(**{"lights[1]": {"type": "spot", "position": [2, 2, 3], "direction": [-2, -2, -3],
                                              "cutoff": 25}}))
-    data, actor = view._light_markers[1]
+    data, actor = view.glyph_actors.light_markers[1]
     assert actor.GetVisibility()
     pts = np.asarray(data.GetPoints().GetData())
     # a cone: the apex at the light, opening along the axis (away from the light)
     axis = -np.array([2, 2, 3]) / np.linalg.norm([2, 2, 3])
     along = (pts - np.array([2, 2, 3])) @ axis
     assert along.max() > 0.2 and along.min() > -0.05, f"cone spans {along.min()}..{along.max()} along the axis"
-    assert not view._light_markers[0][1].GetVisibility(), "the ambient light has a marker"
+    assert not view.glyph_actors.light_markers[0].actor.GetVisibility(), "the ambient light has a marker"
 
 
 def test_eye_marker_only_when_the_camera_leaves_the_eye(view):
     view.render()
-    assert not view._eye[1].GetVisibility(), "eye marker shown while the camera sits at the eye"
+    assert not view.glyph_actors.eye.actor.GetVisibility(), "eye marker shown while the camera sits at the eye"
     view.renderer.GetActiveCamera().Azimuth(60)
     view.render()
-    assert view._eye[1].GetVisibility(), "eye marker hidden after orbiting"
+    assert view.glyph_actors.eye.actor.GetVisibility(), "eye marker hidden after orbiting"
 
 
 def test_pick_returns_surface_point_or_none(view):
@@ -211,7 +211,7 @@ FRAMED = ["assets/scenes/sphere.toml", "lessons/01-light-and-surfaces.md", "less
 @pytest.mark.parametrize("size", [(800, 600), (300, 480)])
 @pytest.mark.parametrize("source", FRAMED)
 def test_arrow_tips_and_letters_stay_inside_the_window(source, size):
-    from phonglab.render.figures import resolve_scene
+    from phonglab.render.options import resolve_scene
 
     scene = resolve_scene(ROOT / source)
     view = SceneView(scene, size=size)
@@ -372,7 +372,7 @@ def test_an_area_light_is_drawn_as_a_flat_panel_where_it_is():
     scene = floor_under_a_panel()
     view = SceneView(scene, size=SIZE, vectors="")
     try:
-        data, actor = view._area_panel
+        data, actor = view.glyph_actors.area_panel
         assert actor.GetVisibility() and not actor.GetProperty().GetLighting()
         points = np.asarray(data.GetPoints().GetData())
         colours = np.asarray(data.GetPointData().GetArray("rgb"))
@@ -385,12 +385,12 @@ def test_an_area_light_is_drawn_as_a_flat_panel_where_it_is():
         assert np.ptp(points[:, 2]) == pytest.approx(0.03 * 0.8), "the panel is not as thick as it should be"
         # seen from below the panel's plane, its centre shows the flat light colour
         image = view.screenshot(annotate=False)
-        x, y = view._to_image((0.0, 0.0, 1.2), SIZE[1])
+        x, y = view.to_image((0.0, 0.0, 1.2))
         assert tuple(image[int(round(y)), int(round(x))]) == (255, 204, 102), (x, y, image[int(round(y)), int(round(x))])
         # moving the light moves the panel, in place; the shading follows
         before_props, before_colours = len(props(view)), np.array(view.colour_array().values)
         view.update(scene.replace("area_light.position", [0.3, 0.0, 1.0]))
-        moved = np.asarray(view._area_panel[0].GetPoints().GetData())
+        moved = np.asarray(view.glyph_actors.area_panel.data.GetPoints().GetData())
         assert np.allclose(moved.mean(axis=0)[:2], (0.3, 0.0), atol=1e-9) and len(props(view)) == before_props
         assert not np.array_equal(view.colour_array().values, before_colours), "the floor's shading ignored the move"
         # no area light, no panel
@@ -401,7 +401,7 @@ def test_an_area_light_is_drawn_as_a_flat_panel_where_it_is():
 
 
 def test_label_offsets_stack_letters_of_coinciding_arrows_only():
-    from phonglab.render.view import label_offsets
+    from phonglab.render.framing import label_offsets
 
     up, tilted, side = (0, 0, 1), (np.sin(0.05), 0, np.cos(0.05)), (1, 0, 0)  # 0.05 rad ≈ 3°
     dirs = {"N": up, "L": tilted, "R": side, "V": up, "H": up}
@@ -416,8 +416,8 @@ def test_headlight_over_the_probe_gives_every_letter_its_own_line():
     scene = red_sphere(**{"lights[1].position": [0, 0, 6]}, camera__eye=[0, 0, 4], probe=tuple(probe))
     v = SceneView(scene, size=SIZE, vtk_text=True)
     try:
-        shown = [letter for letter, actor in v._labels.items() if actor.GetVisibility()]
-        offsets = [v._labels[letter].GetDisplayOffset() for letter in shown]
+        shown = [letter for letter, actor in v.glyph_actors.letters.items() if actor.GetVisibility()]
+        offsets = [v.glyph_actors.letters[letter].GetDisplayOffset() for letter in shown]
         assert len(shown) == 5 and len(set(offsets)) == 5, (shown, offsets)
     finally:
         v.close()

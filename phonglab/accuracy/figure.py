@@ -8,11 +8,11 @@ error is zero by definition is drawn as a vertical line at its time.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from phonglab.render._files import write_atomically
 
 #: file extensions the figure can be written as
 FORMATS = ("png", "svg", "pdf")
@@ -163,26 +163,13 @@ def write_figure(results: dict, path) -> str:
     ------
     ValueError
         If the extension is not one of :data:`FORMATS`.
+    OSError
+        If the file cannot be written (nothing is left behind).
     """
     path = Path(path)
     ext = path.suffix.lower().lstrip(".")
     if ext not in FORMATS:
         raise ValueError(f"figure path: must end in .png, .svg or .pdf, got {str(path)!r}")
     fig = draw(results)
-    folder = path.parent if str(path.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".{ext}", dir=folder)
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            fig.savefig(handle, format=ext, dpi=110)
-        # mkstemp makes the file private: give it the usual permissions
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+    write_atomically(path, lambda tmp: fig.savefig(tmp, format=ext, dpi=110))
     return str(path)

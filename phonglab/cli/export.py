@@ -19,8 +19,7 @@ from __future__ import annotations
 import argparse
 
 from phonglab.cli import UsageError
-
-PLOTS = ("lobe", "lambert", "incidence")
+from phonglab.render.options import AUTO, DEFAULT_SIZE, PLOTS, parse_size
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -36,7 +35,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--set", dest="settings", action="append", default=[], metavar="PATH=VALUE",
         help="change a scene field first, e.g. --set material.shininess=100 (repeatable; values as in TOML)",
     )
-    parser.add_argument("--size", default="1200x900", metavar="WxH", help="figure size in pixels (default 1200x900)")
+    parser.add_argument("--size", default="{}x{}".format(*DEFAULT_SIZE), metavar="WxH",
+                        help="figure size in pixels (default {}x{})".format(*DEFAULT_SIZE))
     parser.add_argument(
         "--vectors", default=None, metavar="N,L,R,V,H",
         help="which vectors to draw at the probe, or 'none' (default: all on a single render, none in grids)",
@@ -68,7 +68,9 @@ def _mistake_names() -> str:
 
 
 def run(args) -> int:
-    from phonglab.render.figures import AUTO, FigureError, figure, parse_size, stderr_progress
+    # rendering loads VTK: only when a figure is made
+    from phonglab.render import FigureError, figure
+    from phonglab.render.figures import stderr_progress
     from phonglab.scene import SceneError
 
     try:

@@ -13,10 +13,30 @@ Both can show a lesson's common mistake (``mistake=``, a name from
 :data:`phonglab.teaching.MISTAKES`): the same render code, shaded with the
 deliberately wrong variant (:meth:`SceneView.set_mistake`; ``figure(...,
 mistake=..., compare=True)`` for the correct and the wrong picture side by side).
+
+The names above load VTK (and matplotlib) on first use, so the VTK-free
+modules (:mod:`~phonglab.render.framing`, :mod:`~phonglab.render.camera`,
+:mod:`~phonglab.render.options`, :mod:`~phonglab.render._files`) import
+without them.
 """
 
-from phonglab.render.figures import FigureError, figure, render
-from phonglab.render.mesh import build_mesh
-from phonglab.render.view import SceneView
+from phonglab.render.errors import FigureError
 
 __all__ = ["FigureError", "SceneView", "build_mesh", "figure", "render"]
+
+
+def __getattr__(name):
+    # VTK and matplotlib load only when a name that needs them is asked for
+    if name == "SceneView":
+        from phonglab.render.view import SceneView
+
+        return SceneView
+    if name == "build_mesh":
+        from phonglab.render.mesh import build_mesh
+
+        return build_mesh
+    if name in ("figure", "render"):
+        from phonglab.render import figures
+
+        return getattr(figures, name)
+    raise AttributeError(f"module 'phonglab.render' has no attribute {name!r}")

@@ -6,6 +6,7 @@ module would otherwise repeat.
 
 from __future__ import annotations
 
+import contextlib
 import os
 
 import numpy as np
@@ -61,6 +62,19 @@ def set_camera(camera: vtk.vtkCamera, scene_camera) -> None:
     camera.SetViewUp(*scene_camera.up)
     camera.SetViewAngle(scene_camera.view_angle)
     camera.OrthogonalizeViewUp()
+
+
+@contextlib.contextmanager
+def hidden(props):
+    """Hide the props (actors) inside the ``with`` block, then give each its visibility back."""
+    visible = [p.GetVisibility() for p in props]
+    for p in props:
+        p.VisibilityOff()
+    try:
+        yield
+    finally:
+        for p, v in zip(props, visible):
+            p.SetVisibility(v)
 
 
 def eye_distance(camera: vtk.vtkCamera, depth: np.ndarray) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""Geometry and colours of the arrows N, L, R, V, H and the light and eye markers.
+"""Geometry and colours of the arrows N, L, R, V, H, the light and eye markers and the area light's panel.
 
 Every glyph is a triangle mesh carrying its colours as a uint8 RGB point
 array (:data:`COLOR_ARRAY`), so it looks the same in VTK and in vtk.js with
@@ -40,6 +40,10 @@ TIP_RADIUS = 0.05
 #: length of an arrow's head as a fraction of the arrow's length
 TIP_LENGTH = 0.3
 LIGHT_MARKER_SIZE = 0.09
+#: thickness of the area light's panel, as a fraction of its longer edge
+AREA_PANEL_THICKNESS = 0.03
+#: colour of the area light panel's back and sides (RGB 0-255): it emits from its front face only
+AREA_PANEL_BACK = (72, 74, 82)
 
 
 def parse_vectors(letters) -> str:
@@ -211,3 +215,38 @@ def eye_marker(eye, focal_point, view_direction) -> pv.PolyData:
     ball = pv.Sphere(radius=0.08, center=tuple(eye), theta_resolution=24, phi_resolution=16)
     pupil = pv.Sphere(radius=0.04, center=tuple(eye + 0.06 * look), theta_resolution=16, phi_resolution=12)
     return _colored(ball, EYE_COLOR, view_direction).merge(_colored(pupil, PUPIL_COLOR, view_direction))
+
+
+def area_light_panel(light) -> pv.PolyData:
+    """A thin box showing a :class:`phonglab.core.AreaLight` where it is.
+
+    The emitting face is the light's rectangle itself (corners
+    ``position ± edge_u/2 ± edge_v/2``), flat in the light's colour
+    brightened to full (:func:`light_color_255`); the
+    box extends :data:`AREA_PANEL_THICKNESS` of the longer edge behind it
+    (against the light's normal), and its back and sides are dark grey
+    (:data:`AREA_PANEL_BACK`), since the light shines from its front only.
+
+    Returns
+    -------
+    pyvista.PolyData
+        24 points (4 per face, so each face has its own colour), 12 triangles,
+        uint8 RGB in the point array ``"rgb"``.
+    """
+    centre = np.asarray(light.position, dtype=np.float64)
+    u = np.asarray(light.edge_u, dtype=np.float64) / 2
+    v = np.asarray(light.edge_v, dtype=np.float64) / 2
+    depth = -light.normal * AREA_PANEL_THICKNESS * 2 * max(np.linalg.norm(u), np.linalg.norm(v))
+    front = [centre - u - v, centre + u - v, centre + u + v, centre - u + v]
+    back = [corner + depth for corner in front]
+    faces = [front, back[::-1]] + [[front[i], back[i], back[(i + 1) % 4], front[(i + 1) % 4]] for i in range(4)]
+    points = np.array([corner for face in faces for corner in face])
+    triangles = []
+    for f in range(len(faces)):
+        a, b, c, d = 4 * f, 4 * f + 1, 4 * f + 2, 4 * f + 3
+        triangles += [3, a, b, c, 3, a, c, d]
+    panel = pv.PolyData(points, faces=np.array(triangles))
+    colours = np.tile(np.asarray(AREA_PANEL_BACK, dtype=np.uint8), (len(points), 1))
+    colours[:4] = light_color_255(light)
+    panel.point_data[COLOR_ARRAY] = colours
+    return panel

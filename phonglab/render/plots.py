@@ -1,7 +1,7 @@
 """Matplotlib plots of the model: the specular lobe, Lambert's cosine, the plane of incidence.
 
 Each ``*_plot`` function returns a matplotlib ``Figure`` (Agg backend) of the
-requested pixel size; :func:`phonglab.render.figures.figure` saves it as PNG,
+requested pixel size; :func:`phonglab.render.figure` saves it as PNG,
 SVG or PDF. Directions point *away from the surface point*.
 """
 
@@ -17,7 +17,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.patches import Arc  # noqa: E402
 
-from phonglab import core  # noqa: E402
+from phonglab.render.errors import FigureError  # noqa: E402
+from phonglab.render.layout import canvas  # noqa: E402
+from phonglab.render.mesh import build_mesh  # noqa: E402
+from phonglab.render.probe import directed_light_index, locate_probe, probe_vectors  # noqa: E402
+from phonglab.render.text import fit_width, keep_inside  # noqa: E402
 
 #: shininess values drawn by the lobe plot (the scene's own is added)
 LOBE_EXPONENTS = (1, 4, 16, 64, 256)
@@ -35,10 +39,6 @@ def make_plot(kind: str, scene, size):
     """The plot named ``kind`` ("lobe", "lambert" or "incidence") for ``scene``."""
     makers = {"lobe": lobe_plot, "lambert": lambert_plot, "incidence": incidence_plot}
     return makers[kind](scene, size)
-
-
-def _figure(size, **kwargs):
-    return plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100, facecolor="white", **kwargs)
 
 
 def _font(size) -> float:
@@ -61,7 +61,7 @@ def lobe_plot(scene, size):
     exponents = sorted(set(LOBE_EXPONENTS) | {alpha_scene})
     angle_name = r"$\angle(N, H)$" if scene.model == "blinn-phong" else r"$\angle(R, V)$"
     fs = _font(size)
-    fig = _figure(size)
+    fig = canvas(size)
     polar_cell, flat_cell = _two_cells(fig, size, polar_first=True)
     flat = fig.add_subplot(flat_cell)
     curves = []
@@ -83,12 +83,12 @@ def lobe_plot(scene, size):
     flat.tick_params(labelsize=fs * 0.85)
     flat.grid(alpha=0.3)
     flat.set_title("larger α: a smaller, sharper highlight", fontsize=fs * 1.1)
-    _fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
+    fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
     title = fig.suptitle(r"Specular lobe  $\max(0,\cos\varphi)^{\alpha}$", fontsize=fs * 1.35, weight="bold",
                          va="top", y=1 - _pad(size) / size[1])
     legend = _bottom_legend(fig, *flat.get_legend_handles_labels(), fontsize=fs * 0.85)
     _tight(fig, title, legend)
-    _keep_inside(flat.title, fig, _pad(size))
+    keep_inside(flat.title, fig, _pad(size))
     # polar: R (or H) straight up, the surface along the horizontal, in the free left cell
     polar = _half_polar(fig, polar_cell, flat, fs,
                         f"lobe around {'N' if scene.model == 'blinn-phong' else 'R'} (polar)")
@@ -105,7 +105,7 @@ def lambert_plot(scene, size):
     directed light.
     """
     fs = _font(size)
-    fig = _figure(size)
+    fig = canvas(size)
     flat_cell, polar_cell = _two_cells(fig, size, polar_first=False)
     flat = fig.add_subplot(flat_cell)
     theta = np.linspace(0, 180, 721)
@@ -143,11 +143,11 @@ def lambert_plot(scene, size):
     flat.grid(alpha=0.3)
     flat.legend(fontsize=fs * 0.85, loc="lower left")
     flat.set_title("the same light spread over a larger area", fontsize=fs * 1.05)
-    _fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
+    fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
     title = fig.suptitle(r"Lambert's cosine law  $I_d = k_d\, I_l \max(0, n\cdot l)$", fontsize=fs * 1.35,
                          weight="bold", va="top", y=1 - _pad(size) / size[1])
     _tight(fig, title)
-    _keep_inside(flat.title, fig, _pad(size))
+    keep_inside(flat.title, fig, _pad(size))
     # polar: the light's direction against the normal, radius = brightness
     polar = _half_polar(fig, polar_cell, flat, fs, "brightness for light arriving\n" r"at $\theta$ from N (polar)")
     phi = np.linspace(-math.pi / 2, math.pi / 2, 361)
@@ -207,7 +207,7 @@ def _tight(fig, title, legend=None) -> None:
     """Tight layout of the axes between the title (shrunk to the width if needed) and a bottom legend."""
     width, height = fig.get_size_inches() * fig.dpi
     renderer = fig.canvas.get_renderer()
-    _fit_width(title, renderer, width * 0.96)
+    fit_width(title, renderer, width * 0.96)
     top = title.get_window_extent(renderer).y0 - 0.01 * height
     bottom = legend.get_window_extent(renderer).y1 if legend is not None else 0.0
     fig.tight_layout(rect=(0, bottom / height, 1, top / height), w_pad=3.0)
@@ -238,7 +238,7 @@ def _half_polar(fig, cell, neighbour, fs, title: str):
         title_y = box.y1 * height - _points_to_px(fs * 1.6)
     label = fig.text((x0 + x1) / 2 / width, title_y / height, title, ha="center", va="bottom",
                      fontsize=neighbour.title.get_fontsize(), linespacing=1.3)
-    _fit_width(label, renderer, x1 - x0)
+    fit_width(label, renderer, x1 - x0)
     top = label.get_window_extent(renderer).y0 - _points_to_px(fs * 0.5)
     if beside:
         top = min(top, span.y1)
@@ -261,19 +261,11 @@ def _half_polar(fig, cell, neighbour, fs, title: str):
 
 def _probe_vectors(scene):
     """(point, normal, ProbeVectors) at the scene's probe for its first directed light, or None."""
-    from phonglab.render.mesh import build_mesh, surface_point
-    from phonglab.render.view import default_probe
-    from phonglab.scene import viewer
-
-    light = next((x for x in scene.lights if not isinstance(x, core.AmbientLight)), None)
-    if light is None:
+    index = directed_light_index(scene.lights)
+    if index is None:
         return None
-    mesh = build_mesh(scene.geometry)
-    if scene.probe is None:
-        point, normal = default_probe(mesh, scene.camera)
-    else:
-        point, normal = surface_point(mesh, scene.probe)
-    vec = core.vectors(point, normal, light=light, two_sided=scene.two_sided, **viewer(scene))
+    point, normal = locate_probe(build_mesh(scene.geometry), scene)
+    vec, _ = probe_vectors(scene, point, normal, index)
     return point, normal, vec
 
 
@@ -305,11 +297,9 @@ def incidence_plot(scene, size):
 
     Raises
     ------
-    phonglab.render.figures.FigureError
+    phonglab.render.FigureError
         If the scene has no point, directional or spot light.
     """
-    from phonglab.render.figures import FigureError
-
     probe = _probe_vectors(scene)
     if probe is None:
         raise FigureError("plot: incidence needs a point, directional or spot light in the scene")
@@ -388,7 +378,7 @@ def incidence_plot(scene, size):
                       "V′, H′ are their projections")
 
     fs = _font(size)
-    fig = _figure(size)
+    fig = canvas(size)
     px, py, pz = point
     title = fig.suptitle(f"Plane of incidence at the probe ({px:.2f}, {py:.2f}, {pz:.2f})", fontsize=fs * 1.35,
                          weight="bold", va="top", y=1 - 0.02 * min(size) / size[1])
@@ -420,22 +410,6 @@ def incidence_plot(scene, size):
     return fig
 
 
-def _fit_width(text, renderer, width: float) -> None:
-    """Shrink ``text``'s font until it is at most ``width`` pixels wide."""
-    extent = text.get_window_extent(renderer).width
-    if extent > width > 0:
-        text.set_fontsize(text.get_fontsize() * width / extent * 0.98)
-
-
-def _keep_inside(text, fig, pad: float) -> None:
-    """Shrink a centred text (an axes title) until it stays ``pad`` pixels inside the figure's sides."""
-    renderer = fig.canvas.get_renderer()
-    box = text.get_window_extent(renderer)
-    centre = (box.x0 + box.x1) / 2
-    width = fig.get_size_inches()[0] * fig.dpi
-    _fit_width(text, renderer, 2 * min(centre - pad, width - pad - centre))
-
-
 def _diagram_beside_text(fig, title, texts, data_size) -> tuple[float, float, float, float]:
     """Place the text boxes under ``title`` and return the axes rectangle (figure fractions) for a diagram.
 
@@ -451,7 +425,7 @@ def _diagram_beside_text(fig, title, texts, data_size) -> tuple[float, float, fl
     gap = 0.025 * min(width, height)
     dx, dy = data_size
     renderer = fig.canvas.get_renderer()
-    _fit_width(title, renderer, width - 2 * pad)
+    fit_width(title, renderer, width - 2 * pad)
     for _ in range(8):
         top = title.get_window_extent(renderer).y0 - gap
         room_w, room_h = width - 2 * pad, top - pad

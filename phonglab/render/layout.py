@@ -1,0 +1,108 @@
+"""Where things go on a figure: the canvas, the grid of cells, frames and labels in cells.
+
+Boxes are ``(x, y_from_top, width, height)`` in pixels of the figure;
+matplotlib figures are made at 100 dpi, so a size in pixels is the size in
+hundredths of an inch and a font of ``0.72 * unit`` points is about ``unit``
+pixels tall.
+"""
+
+from __future__ import annotations
+
+from phonglab.render.errors import FigureError
+from phonglab.render.text import fit_width
+
+
+def canvas(size, facecolor="white"):
+    """A matplotlib figure of ``size`` = (width, height) pixels at 100 dpi (Agg)."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100, facecolor=facecolor)
+
+
+def unit(size) -> int:
+    """The layout's unit in pixels: about the height of a label's text."""
+    return max(10, round(min(size) / 30))
+
+
+def grid_layout(size, rows, cols, *, title: bool, row_labels: bool, col_labels: bool, top_offset: int = 0):
+    """Pixel boxes (x, y_from_top, w, h) of the cells by row, and the layout's unit.
+
+    Room is kept for a title, row labels on the left and column labels on
+    top when asked; ``top_offset`` pixels at the top are kept free (for a
+    mistake's band).
+
+    Raises
+    ------
+    FigureError
+        When a cell would be smaller than 8 pixels.
+    """
+    width, height = size
+    u = unit(size)
+    top = (round(2.2 * u) if title else round(0.5 * u)) + (round(1.8 * u) if col_labels else 0)
+    top += int(top_offset)
+    left = round(5.5 * u) if row_labels else round(0.5 * u)
+    gap = max(2, round(0.3 * u))
+    bottom = right = round(0.5 * u)
+    cell_w = (width - left - right - gap * (cols - 1)) // cols
+    cell_h = (height - top - bottom - gap * (rows - 1)) // rows
+    if cell_w < 8 or cell_h < 8:
+        raise FigureError(f"size: {width}x{height} is too small for a {rows} x {cols} grid")
+    boxes = [
+        [(left + c * (cell_w + gap), top + r * (cell_h + gap), cell_w, cell_h) for c in range(cols)]
+        for r in range(rows)
+    ]
+    return boxes, u
+
+
+def place(fig, image, box, size):
+    """Put an image at a pixel box (top-left origin), unscaled."""
+    x, y, w, h = box
+    fig.figimage(image, xo=x, yo=size[1] - y - h, origin="upper")
+
+
+def frame(fig, box, size, u, color):
+    """A coloured frame drawn along the edge of a pixel box (top-left origin); ``u`` is the layout's unit."""
+    from matplotlib.patches import Rectangle
+
+    x, y, w, h = box
+    W, H = size
+    fig.add_artist(Rectangle((x / W, 1 - (y + h) / H), w / W, h / H, transform=fig.transFigure, fill=False,
+                             edgecolor=color, linewidth=max(1.5, u * 0.12), zorder=2))
+
+
+def grid_titles(fig, boxes, size, u, *, title="", top_offset: int = 0, row_titles=None, col_titles=None) -> None:
+    """The figure's title over the grid, column titles above the first row, row titles left of the first column."""
+    fs = u * 0.72  # points at 100 dpi: about u pixels tall
+    W, H = size
+    if title:
+        fig.text(0.5, 1 - (top_offset + 0.3 * u) / H, title, ha="center", va="top", fontsize=fs * 1.25,
+                 weight="bold")
+    if col_titles:
+        for c, text in enumerate(col_titles):
+            x, y, w, _ = boxes[0][c]
+            fig.text((x + w / 2) / W, 1 - (y - 0.4 * u) / H, text, ha="center", va="bottom", fontsize=fs)
+    if row_titles:
+        for r, text in enumerate(row_titles):
+            x, y, _, h = boxes[r][0]
+            fig.text((x - 0.4 * u) / W, 1 - (y + h / 2) / H, text, ha="right", va="center", fontsize=fs)
+
+
+def cell_labels(fig, boxes, cols, labels, u, size):
+    """A label inside each cell's top edge, in a rounded box, shrunk to fit the cell's width.
+
+    ``labels`` holds ``(text, box colour)`` per cell, row-major.
+    """
+    fs = min(u * 0.72, boxes[0][0][2] / 13 * 0.72)
+    renderer = fig.canvas.get_renderer()
+    W, H = size
+    for i, (text, facecolor) in enumerate(labels):
+        r, c = divmod(i, cols)
+        x, y, w, _ = boxes[r][c]
+        label = fig.text((x + w / 2) / W, 1 - (y + 0.3 * u) / H, text, ha="center", va="top",
+                         fontsize=fs, color="white", linespacing=1.5,
+                         bbox=dict(boxstyle="round,pad=0.3", facecolor=facecolor, edgecolor="none"))
+        # the label and its box's padding (0.3 em a side) stay inside the cell, clear of a frame
+        fit_width(label, renderer, w - 0.6 * fs / 0.72 - 0.6 * u)
