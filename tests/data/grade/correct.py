@@ -21,7 +21,7 @@ def unit(a):
 
 def shade(point, normal, eye, material, lights):
     p = [float(x) for x in point]
-    n, n_len = unit([float(x) for x in normal])
+    n, _ = unit([float(x) for x in normal])
     v, _ = unit(sub([float(x) for x in eye], p))
     color = list(material.emission)
     for light in lights:
