@@ -263,13 +263,14 @@ def starter_text() -> str:
 
 
 def _fmt(v) -> str:
-    return "(" + ", ".join(f"{float(x):.10g}" for x in np.asarray(v).ravel()) + ")"
+    return "(" + ", ".join(f"{float(x) + 0.0:.10g}" for x in np.asarray(v).ravel()) + ")"  # + 0.0: no "-0"
 
 
 def _light_text(light) -> str:
     """A light's class and the fields that differ from their defaults."""
     shown = []
-    for f in fields(light):
+    order = sorted(fields(light), key=lambda f: f.name not in ("position", "direction"))
+    for f in order:
         value = getattr(light, f.name)
         if f.name in ("position", "direction") or value != f.default:
             shown.append(f"{f.name}={_fmt(value) if isinstance(value, tuple) else f'{value:g}'}")
@@ -304,7 +305,7 @@ def group_text(g: GroupResult) -> str:
         else:
             lines.append(f"    got      {_fmt(worst.got)}  (tolerance {g.group.rtol:g} relative "
                          f"+ {g.group.atol:g} absolute)")
-        errors = sorted({c.error for c in g.cases if c.error and c is not worst})
+        errors = sorted({c.error for c in g.cases if c.error and c.error != worst.error})
         for e in errors[:3]:
             lines.append(f"    also: {e}")
     d = g.diagnosis
