@@ -361,16 +361,19 @@ def test_cli_picture_shows_the_student_beside_the_core(capsys, tmp_path):
     from phonglab.cli import grade as grade_cli
 
     png = tmp_path / "sphere.png"
-    status, out, err = run_cli(capsys, "grade", DATA / "no_clamp_diffuse.py", "--picture", png)
-    assert status == 1 and f"wrote {png}" in out, (out, err)
-    image = Image.open(png)
-    size = grade_cli.PICTURE_SIZE * 2
-    assert image.width > 3 * size and image.height > size
+    status, out, err = run_cli(capsys, "grade", DATA / "correct.py", "--picture", png)
+    assert status == 0 and f"wrote {png}" in out, (out, err)
     assert [p.name for p in tmp_path.iterdir()] == ["sphere.png"]  # no temporary file left
-    core, student, mask, failures = grade_cli.sphere_images(DATA / "correct.py", Limits())
-    assert failures == 0 and np.allclose(student[mask], core[mask], rtol=1e-9, atol=1e-12)
-    _, wrong, _, _ = grade_cli.sphere_images(DATA / "no_clamp_diffuse.py", Limits())
-    assert np.max(np.abs(wrong[mask] - core[mask])) > 0.1  # the mistake shows in the picture
+    image = np.asarray(Image.open(png).convert("RGB")).astype(int)
+    size, gap, caption = grade_cli.PICTURE_SIZE * 2, 8, 18
+    assert image.shape == (size + caption + 2 * gap, 3 * size + 4 * gap, 3)
+    panels = [image[caption + gap: caption + gap + size, gap + i * (size + gap): gap + i * (size + gap) + size]
+              for i in range(3)]
+    # the correct student's sphere is the core's, to the last grey level
+    assert np.abs(panels[0] - panels[1]).max() <= 1
+    # a mistake shows in the picture
+    core, wrong, mask, failures = grade_cli.sphere_images(DATA / "no_clamp_diffuse.py", Limits())
+    assert failures == 0 and np.max(np.abs(wrong[mask] - core[mask])) > 0.1
 
 
 def test_template_is_written_once_and_grades_to_zero(capsys, tmp_path):

@@ -67,7 +67,8 @@ from phonglab.teaching.sandbox import Limits, LoadError, Outcome, Sandbox
 __all__ = [
     "GROUPS", "Case", "Group", "CaseResult", "Diagnosis", "GroupResult", "Report",
     "expected", "within", "diagnose", "grade", "grade_file", "encode_scene",
-    "format_report", "gradescope_results", "starter_text", "LoadError", "Limits",
+    "format_report", "gradescope_results", "starter_text", "case_text", "group_text",
+    "LoadError", "Limits", "Outcome", "Sandbox",
 ]
 
 

@@ -324,15 +324,16 @@ class Sandbox:
         left = self.limits.total_limit - self._spent
         if left <= 0:
             return [Outcome(error=f"not run: the total time limit of {self.limits.total_limit:g} s is spent")] * k
-        if self._proc is None:
-            try:
-                self._start()
-            except LoadError as exc:
-                return [Outcome(error=f"not run: {exc}")] * k
         request = {"points": points.tolist(), "normals": normals.tolist(),
                    "eye": [float(x) for x in eye], **scene}
-        started = time.monotonic()
+        started = time.monotonic()  # a restart after a time-out counts towards the total too
         try:
+            if self._proc is None:
+                try:
+                    self._start()
+                except LoadError as exc:
+                    return [Outcome(error=f"not run: {exc}")] * k
+                left = self.limits.total_limit - self._spent - (time.monotonic() - started)
             try:
                 self._proc.stdin.write((json.dumps(request) + "\n").encode())
                 self._proc.stdin.flush()
