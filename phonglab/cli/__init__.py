@@ -27,6 +27,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "check": ("phonglab.cli.check", "validate scene and lesson files"),
     "plan": ("phonglab.cli.plan", "show which effects a scene computes and skips"),
     "bench": ("phonglab.cli.bench", "measure speed and accuracy (ratios, same run)"),
+    "grade": ("phonglab.cli.grade", "grade a student's shade() for one point against the core"),
 }
 
 

@@ -1,0 +1,8 @@
+"""A file that reads /etc/passwd as it is imported: refused, so the file cannot be loaded."""
+
+with open("/etc/passwd") as f:
+    SECRET = f.read()
+
+
+def shade(point, normal, eye, material, lights):
+    return [0.0, 0.0, 0.0]
