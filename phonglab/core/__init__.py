@@ -11,6 +11,7 @@ from .area import AREA_METHODS, AreaLight, area_diffuse, area_irradiance, polygo
 from .model import (
     ATTENUATION_MAX,
     DISTANCE_FLOOR,
+    MODELS,
     AmbientLight,
     DirectionalLight,
     InvalidValue,
@@ -19,14 +20,19 @@ from .model import (
     PointLight,
     SpotLight,
     light_from_homogeneous,
+    vec3,
 )
-from .shading import MODELS, LightPlan, Plan, ProbeVectors, Shading, plan_effects, shade, vectors
+from .physics import SPOT_SLACK_ULPS, attenuation, face_forward, facing_away, spot_cos_limit, spot_factor
+from .plan import LightPlan, Plan, plan_effects
+from .probe import ProbeVectors, vectors
+from .shading import Shading, shade
 from .vectors import SQUARING_MAX, dot, normalize, one_minus_cos, reflect
 
 __all__ = [
     "ATTENUATION_MAX", "DISTANCE_FLOOR", "MODELS", "SQUARING_MAX",
     "AmbientLight", "DirectionalLight", "InvalidValue", "Light", "Material", "PointLight", "SpotLight",
-    "light_from_homogeneous",
+    "light_from_homogeneous", "vec3",
+    "SPOT_SLACK_ULPS", "attenuation", "face_forward", "facing_away", "spot_cos_limit", "spot_factor",
     "LightPlan", "Plan", "ProbeVectors", "Shading", "plan_effects", "shade", "vectors",
     "dot", "normalize", "one_minus_cos", "reflect",
     "AREA_METHODS", "AreaLight", "area_diffuse", "area_irradiance", "polygon_irradiance",
