@@ -32,7 +32,7 @@ from .checks import as_points, check_lights, check_material, refuse_nonfinite, v
 from .model import AmbientLight, DirectionalLight, InvalidValue, Material
 from .physics import attenuation, face_forward, spot_factor
 from .plan import LightPlan, Plan, plan_effects
-from .vectors import const_row, cos_power, dot_c, normalize_c, one_minus_cos_c, working_dtype
+from .vectors import const_row, cos_power, dot_c, normalize_c, one_minus_cos_c, unit_direction, working_dtype
 
 __all__ = ["Shading", "shade"]
 
@@ -288,12 +288,8 @@ class _Surface:
 
 
 def _unit(direction, dtype):
-    """A light's or viewer's fixed direction as a (3, 1) unit vector.
-
-    Normalised in float64 before the cast, so a direction like (0, 0, 1e-148)
-    does not underflow to zero in float32.
-    """
-    return normalize_c(np.asarray(direction, np.float64)[:, None])[0].astype(dtype)
+    """A light's or viewer's fixed direction as a (3, 1) unit column (see :func:`unit_direction`)."""
+    return unit_direction(direction, dtype)[:, None]
 
 
 # ---------------------------------------------------------------------------
