@@ -21,7 +21,14 @@ import phonglab as pl
 from phonglab.render import build_mesh, figure
 from phonglab.render.mesh import face_centroids_normals, triangles
 from phonglab.scene import lesson_files, list_lessons, load_lesson, plan
-from phonglab.teaching import MISTAKES, shade_scene
+from phonglab.scene import shade as scene_shade
+from phonglab.teaching import MISTAKES
+
+
+def shade_scene(scene, points, normals, mistake=None):
+    """The scene's shading, correct or with the named mistake."""
+    return scene_shade(scene, points, normals, mistake=mistake)
+
 
 LESSONS_DIR = Path(__file__).resolve().parents[1] / "lessons"
 #: every lesson file: each is loaded, shaded, exported and has its experiments applied

@@ -1,9 +1,10 @@
 """The common-mistake variants: each differs from the core exactly where its bug bites.
 
-Every variant runs one textbook evaluation of the model with one step
-swapped. The textbook evaluation itself must agree with the core; each
-mistake must then differ from the core on the points its bug affects, by the
-amount the wrong line predicts, and agree everywhere else.
+Every variant runs the core's reference kernel with one step swapped. The
+reference kernel itself must agree with the fast one (tests/test_core_reference.py
+holds it to that; here on the teaching test's scenes); each mistake must then
+differ from the core on the points its bug affects, by the amount the wrong
+line predicts, and agree everywhere else.
 """
 
 import subprocess
@@ -19,8 +20,6 @@ from phonglab.teaching import (
     MISTAKES,
     get_mistake,
     no_clamp_diffuse,
-    shade_scene,
-    textbook,
     ungated_specular,
     unnormalised_normals,
     zero_shininess,
@@ -48,7 +47,7 @@ def assert_terms_close(got, want, where, what, terms=TERMS, atol=1e-12):
 
 
 # ---------------------------------------------------------------------------
-# the textbook evaluation is the correct model
+# the reference kernel, which every mistake changes in one step, is the correct model
 
 
 LIGHT_SETS = {
@@ -63,21 +62,21 @@ LIGHT_SETS = {
 @given(seed=st.integers(0, 2**32 - 1), lights=st.sampled_from(sorted(LIGHT_SETS)),
        model=st.sampled_from(["phong", "blinn-phong"]), two_sided=st.booleans(),
        infinite=st.booleans(), shininess=st.sampled_from([0.0, 1.0, 7.5, 40.0, 300.0]))
-def test_textbook_agrees_with_core(seed, lights, model, two_sided, infinite, shininess):
+def test_reference_agrees_with_core(seed, lights, model, two_sided, infinite, shininess):
     rng = np.random.default_rng(seed)
     points = rng.normal(size=(64, 3))
     normals = rng.normal(size=(64, 3)) * rng.uniform(0.2, 3.0, size=(64, 1))  # any length
     material = pl.Material(ka=0.1, kd=(0.7, 0.4, 0.2), ks=0.5, shininess=shininess, emission=0.05)
     viewer = {"view_direction": (0.3, 0.2, 1.0)} if infinite else {"eye": EYE}
     args = dict(material=material, lights=LIGHT_SETS[lights], model=model, two_sided=two_sided, **viewer)
-    assert_terms_close(textbook(points, normals, **args), pl.shade(points, normals, **args), slice(None),
-                       f"textbook vs core, seed={seed} lights={lights} model={model} two_sided={two_sided} "
+    assert_terms_close(pl.shade_reference(points, normals, **args), pl.shade(points, normals, **args), slice(None),
+                       f"reference vs core, seed={seed} lights={lights} model={model} two_sided={two_sided} "
                        f"viewer={viewer} shininess={shininess}")
 
 
-def test_textbook_keeps_float32():
+def test_reference_keeps_float32():
     p, n = sphere(8, 4)
-    s = textbook(p.astype(np.float32), n.astype(np.float32), material=MAT, lights=[AMBIENT], eye=EYE)
+    s = pl.shade_reference(p.astype(np.float32), n.astype(np.float32), material=MAT, lights=[AMBIENT], eye=EYE)
     assert s.color.dtype == np.float32 and s.diffuse.dtype == np.float32, s.color.dtype
 
 
@@ -234,7 +233,7 @@ def test_unknown_mistake_names_the_allowed_ones():
 
 
 @pytest.mark.parametrize("infinite", [False, True])
-def test_shade_scene_uses_the_scene_and_the_named_variant(infinite):
+def test_scene_shade_runs_the_named_mistake_with_the_scene(infinite):
     from phonglab.scene import Camera, Geometry, Scene
     from phonglab.scene import shade as scene_shade
 
@@ -243,13 +242,39 @@ def test_shade_scene_uses_the_scene_and_the_named_variant(infinite):
     p, n = sphere()
     viewer = {"view_direction": scene.camera.view_direction} if infinite else {"eye": scene.camera.eye}
     args = dict(material=MAT, lights=scene.lights, model="blinn-phong", two_sided=True, **viewer)
-    assert_terms_close(shade_scene(scene, p, n), scene_shade(scene, p, n), slice(None), "no mistake")
-    assert_terms_close(shade_scene(scene, p, n, "no-clamp-diffuse"), no_clamp_diffuse(p, n, **args), slice(None),
-                       "no-clamp-diffuse through shade_scene")
-    assert (shade_scene(scene, p, n, "no-clamp-diffuse").diffuse < 0).any()
+    assert_terms_close(scene_shade(scene, p, n, mistake=None), pl.shade(p, n, **args), slice(None), "no mistake")
+    wrong = scene_shade(scene, p, n, mistake="no-clamp-diffuse")
+    assert_terms_close(wrong, no_clamp_diffuse(p, n, **args), slice(None), "no-clamp-diffuse through scene.shade")
+    assert (wrong.diffuse < 0).any()
+    with pytest.raises(ValueError, match='did you mean "zero-shininess"'):
+        scene_shade(scene, p, n, mistake="zero-shinyness")
+
+
+def test_each_mistake_is_the_reference_kernel_with_one_step_changed():
+    # the same call through the reference kernel with that one step swapped gives the same arrays
+    from phonglab.core.reference import Steps
+    from phonglab.teaching import mistakes
+
+    p, n = sphere()
+    n = n * np.linspace(0.3, 1.0, len(n))[:, None]  # interpolated normals, shorter than 1
+    args = dict(material=MAT, lights=[AMBIENT, pl.PointLight(position=(3, 1, 0))], eye=EYE, two_sided=True)
+    changed = {
+        no_clamp_diffuse: Steps(diffuse_weight=mistakes.lambert_unclamped),
+        ungated_specular: Steps(specular_weight=mistakes.specular_lobe_ungated),
+        unnormalised_normals: Steps(normal=mistakes.raw_normal),
+        zero_shininess: Steps(specular_weight=mistakes.specular_lobe_zero_exponent),
+    }
+    for variant, steps in changed.items():
+        want = pl.shade_reference(p, n, steps=steps, **args)
+        got = variant(p, n, **args)
+        for term in TERMS:
+            assert np.array_equal(getattr(got, term), getattr(want, term)), f"{variant.__name__}: {term}"
+        # and it is not the model: the changed step shows somewhere
+        assert not np.array_equal(got.color, pl.shade_reference(p, n, **args).color), variant.__name__
 
 
 def test_core_never_imports_the_teaching_module():
+    # scene imports it only when a mistake is asked for
     code = "import sys, phonglab.core, phonglab.scene; print(sorted(m for m in sys.modules if 'teaching' in m))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == "[]", f"phonglab.core/scene pulled in {out}"

@@ -5,12 +5,21 @@ Every direction is a unit vector pointing *away from the surface point*:
 ``r = 2(n·l)n − l`` and ``h = normalize(l + v)``. Functions take ``(..., 3)``
 arrays that broadcast over the leading axes and keep float32 as float32.
 This package imports NumPy only: no PyVista, no trame, no file I/O.
+
+Modules, by job: :mod:`~phonglab.core.vectors` (unit vectors, dot, reflect,
+the specular power), :mod:`~phonglab.core.model` (materials and lights),
+:mod:`~phonglab.core.physics` (face-forward, attenuation, spot factor),
+:mod:`~phonglab.core.reference` (the model, one light at a time),
+:mod:`~phonglab.core.plan` and :mod:`~phonglab.core.shading` (the fast
+kernel), :mod:`~phonglab.core.probe` (the vectors at one point) and
+:mod:`~phonglab.core.area` (area lights).
 """
 
 from .area import AREA_METHODS, AreaLight, area_diffuse, area_irradiance, polygon_irradiance
 from .model import (
     ATTENUATION_MAX,
     DISTANCE_FLOOR,
+    MODELS,
     AmbientLight,
     DirectionalLight,
     InvalidValue,
@@ -19,15 +28,22 @@ from .model import (
     PointLight,
     SpotLight,
     light_from_homogeneous,
+    vec3,
 )
-from .shading import MODELS, LightPlan, Plan, ProbeVectors, Shading, plan_effects, shade, vectors
+from .physics import SPOT_SLACK_ULPS, attenuation, face_forward, facing_away, spot_cos_limit, spot_factor
+from .plan import LightPlan, Plan, plan_effects
+from .probe import ProbeVectors, vectors
+from .reference import Steps, shade_reference
+from .shading import Shading, shade
 from .vectors import SQUARING_MAX, dot, normalize, one_minus_cos, reflect
 
 __all__ = [
     "ATTENUATION_MAX", "DISTANCE_FLOOR", "MODELS", "SQUARING_MAX",
     "AmbientLight", "DirectionalLight", "InvalidValue", "Light", "Material", "PointLight", "SpotLight",
-    "light_from_homogeneous",
+    "light_from_homogeneous", "vec3",
+    "SPOT_SLACK_ULPS", "attenuation", "face_forward", "facing_away", "spot_cos_limit", "spot_factor",
     "LightPlan", "Plan", "ProbeVectors", "Shading", "plan_effects", "shade", "vectors",
+    "Steps", "shade_reference",
     "dot", "normalize", "one_minus_cos", "reflect",
     "AREA_METHODS", "AreaLight", "area_diffuse", "area_irradiance", "polygon_irradiance",
 ]

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import InvalidValue, Material, _number, _rgb, _vec3
+from .model import InvalidValue, Material, _number, _rgb, vec3
 from .vectors import working_dtype
 
 __all__ = [
@@ -82,7 +82,7 @@ class AreaLight:
 
     def __post_init__(self):
         for name in ("position", "edge_u", "edge_v"):
-            object.__setattr__(self, name, _vec3(f"AreaLight.{name}", getattr(self, name),
+            object.__setattr__(self, name, vec3(f"AreaLight.{name}", getattr(self, name),
                                                  nonzero=name != "position"))
         object.__setattr__(self, "color", _rgb("AreaLight.color", self.color))
         object.__setattr__(self, "intensity", _number("AreaLight.intensity", self.intensity))

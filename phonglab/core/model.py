@@ -12,10 +12,12 @@ so a :class:`DirectionalLight`'s ``direction`` points towards the light.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
 
 __all__ = [
+    "MODELS",
     "InvalidValue",
+    "vec3",
     "Material",
     "Light",
     "AmbientLight",
@@ -26,6 +28,9 @@ __all__ = [
     "DISTANCE_FLOOR",
     "ATTENUATION_MAX",
 ]
+
+#: The illumination models :func:`~phonglab.core.shade` evaluates; every layer takes the list from here.
+MODELS = ("phong", "blinn-phong")
 
 #: Attenuation uses ``max(d, DISTANCE_FLOOR)`` for the light's distance ``d``.
 DISTANCE_FLOOR = 1e-6
@@ -92,8 +97,36 @@ def _rgb(where: str, value) -> RGB:
         raise InvalidValue(where, value, allowed) from None
 
 
-def _vec3(where: str, value, *, nonzero: bool = False) -> Vec3:
-    """Three finite numbers (any sign); optionally not all zero."""
+def vec3(where: str, value, *, nonzero: bool = False) -> Vec3:
+    """Three finite numbers (any sign) as a tuple of floats: the one "3-vector" check.
+
+    Parameters
+    ----------
+    where : str
+        The field the value was given for, named in the error (``"PointLight.position"``).
+    value : sequence of 3 numbers
+    nonzero : bool, keyword-only
+        Also refuse ``(0, 0, 0)`` (a direction must have one).
+
+    Returns
+    -------
+    tuple of 3 floats
+
+    Raises
+    ------
+    InvalidValue
+        Naming ``where``, the value and what is allowed, for anything but three
+        finite real numbers (booleans, strings, NaN and inf included).
+
+    Examples
+    --------
+    >>> vec3("eye", [0, 0, 5])
+    (0.0, 0.0, 5.0)
+    >>> vec3("direction", (0, 0, 0), nonzero=True)
+    Traceback (most recent call last):
+    ...
+    phonglab.core.model.InvalidValue: direction: must be 3 finite numbers, not all zero, got (0, 0, 0)
+    """
     allowed = "must be 3 finite numbers" + (", not all zero" if nonzero else "")
     try:
         items = list(value)
@@ -117,6 +150,10 @@ def _vec3(where: str, value, *, nonzero: bool = False) -> Vec3:
     return tuple(out)  # type: ignore[return-value]
 
 
+#: the former private name, kept for callers that import it
+_vec3 = vec3
+
+
 def _attenuation(where: str, value) -> Vec3:
     """Coefficients (a, b, c) with a + b d + c d² > 0 for every d >= DISTANCE_FLOOR."""
     allowed = (
@@ -124,7 +161,7 @@ def _attenuation(where: str, value) -> Vec3:
         f"{DISTANCE_FLOOR:g} (e.g. (1, 0, 0) none, (0, 0, 1) inverse square)"
     )
     try:
-        a, b, c = _vec3(where, value)
+        a, b, c = vec3(where, value)
     except InvalidValue:
         raise InvalidValue(where, value, allowed) from None
     if c < 0 or (c == 0 and b < 0):
@@ -252,7 +289,7 @@ class PointLight(Light):
     def __post_init__(self):
         self._validate_common()
         kind = type(self).__name__
-        object.__setattr__(self, "position", _vec3(f"{kind}.position", self.position))
+        object.__setattr__(self, "position", vec3(f"{kind}.position", self.position))
         object.__setattr__(self, "attenuation", _attenuation(f"{kind}.attenuation", self.attenuation))
 
 
@@ -273,7 +310,7 @@ class DirectionalLight(Light):
     def __post_init__(self):
         self._validate_common()
         object.__setattr__(
-            self, "direction", _vec3("DirectionalLight.direction", self.direction, nonzero=True)
+            self, "direction", vec3("DirectionalLight.direction", self.direction, nonzero=True)
         )
 
 
@@ -309,7 +346,7 @@ class SpotLight(PointLight):
 
     def __post_init__(self):
         super().__post_init__()
-        object.__setattr__(self, "direction", _vec3("SpotLight.direction", self.direction, nonzero=True))
+        object.__setattr__(self, "direction", vec3("SpotLight.direction", self.direction, nonzero=True))
         allowed = "must be a half-angle in degrees in (0, 90], or 180 for a plain point light"
         cutoff = _number("SpotLight.cutoff", self.cutoff, minimum=None, allowed=allowed[8:])
         if not (0 < cutoff <= 90 or cutoff == 180):
@@ -355,7 +392,3 @@ def light_from_homogeneous(position, **kwargs) -> PointLight | DirectionalLight:
         return DirectionalLight(direction=(x, y, z), **kwargs)
     return PointLight(position=(x / w, y / w, z / w), **kwargs)
 
-
-def light_fields(light: Light) -> dict:
-    """The light's fields as a dict (for display and serialisation)."""
-    return {f.name: getattr(light, f.name) for f in fields(light)}

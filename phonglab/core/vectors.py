@@ -17,7 +17,8 @@ import functools
 
 import numpy as np
 
-__all__ = ["normalize", "dot", "reflect", "one_minus_cos", "cos_power", "working_dtype", "SQUARING_MAX"]
+__all__ = ["normalize", "dot", "reflect", "one_minus_cos", "cos_power", "unit_direction", "working_dtype",
+           "SQUARING_MAX"]
 
 #: Largest integer shininess raised to its power by repeated squaring. Above it,
 #: and for every fractional α, the power is ``exp(α·log1p(−d))``. Squaring is about
@@ -33,6 +34,15 @@ def working_dtype(*arrays) -> np.dtype:
     Integer and float64 inputs compute in float64; float16 is promoted to float32.
     """
     return np.result_type(*[np.asarray(a).dtype for a in arrays], np.float32)
+
+
+def unit_direction(direction, dtype) -> np.ndarray:
+    """A fixed direction (a light's, its axis, the viewer's) as a unit vector, shape (3,).
+
+    Normalised in float64 before the cast to ``dtype``, so a direction like
+    ``(0, 0, 1e-148)`` does not underflow to zero in float32.
+    """
+    return normalize_c(np.asarray(direction, np.float64))[0].astype(dtype)
 
 
 def _fast_range(dtype):
@@ -156,13 +166,13 @@ def log1p_neg(d, *, out=None):
     return out
 
 
-def cos_power(d, lit, shininess):
-    """``max(0, cos)^α`` from ``d = 1 − cos``, zero where ``lit`` is False.
+def cos_power(d_cos, lit, shininess):
+    """``max(0, cos)^α`` from ``d_cos = 1 − cos``, zero where ``lit`` is False.
 
     Parameters
     ----------
-    d : ndarray
-        ``1 − cos`` of the angle, from :func:`one_minus_cos`, ``d ≥ 0``;
+    d_cos : ndarray
+        ``1 − cos`` of the angle, from :func:`one_minus_cos`, ``d_cos ≥ 0``;
         ``cos`` is clamped to [0, 1] before the power. Modified in place.
     lit : ndarray of bool
         Where the term applies (``n·l > 0``); exactly 0 elsewhere, and where
@@ -172,25 +182,25 @@ def cos_power(d, lit, shininess):
 
     Notes
     -----
-    .. math:: \\max(0, \\cos)^{\\alpha} = \\exp(\\alpha \\, \\mathrm{log1p}(-d))
+    .. math:: \\max(0, \\cos)^{\\alpha} = \\exp(\\alpha \\, \\mathrm{log1p}(-d_{cos}))
 
-    ``log1p`` keeps the relative precision of tiny ``d``, so α = 10⁶ near the
+    ``log1p`` keeps the relative precision of tiny ``d_cos``, so α = 10⁶ near the
     highlight is as accurate as α = 10. An integer α up to :data:`SQUARING_MAX`
-    is instead raised by repeated squaring of ``1 − d``: a few multiplications
+    is instead raised by repeated squaring of ``1 − d_cos``: a few multiplications
     in place of a log and an exp, at most about 2α ulps from the exact power.
     α = 0 gives exactly 1 wherever ``lit`` and ``cos > 0`` (x⁰ = 1); the ``lit``
     gate still makes the term exactly 0 on the unlit side, so no α lights the
     back of a surface.
     """
-    dtype = np.asarray(d).dtype
+    dtype = np.asarray(d_cos).dtype
     # α in the working precision, kept finite: 0·(−inf) or inf·0 would be NaN
     alpha = dtype.type(min(float(shininess), float(np.finfo(dtype).max)))
     if alpha == 0:  # α = 0, or so small it rounds to 0: x⁰ = 1 wherever lit and cos > 0
-        return (lit & (d < 1)).astype(dtype)
+        return (lit & (d_cos < 1)).astype(dtype)
     if float(shininess).is_integer() and shininess <= SQUARING_MAX:
-        return _power_by_squaring(d, lit, int(shininess))
-    np.minimum(d, const_row(1, d.shape, dtype), out=d)  # clamp cos to [0, 1]
-    t = log1p_neg(d)  # -inf at d = 1: exp gives exactly 0
+        return _power_by_squaring(d_cos, lit, int(shininess))
+    np.minimum(d_cos, const_row(1, d_cos.shape, dtype), out=d_cos)  # clamp cos to [0, 1]
+    t = log1p_neg(d_cos)  # -inf at d_cos = 1: exp gives exactly 0
     with np.errstate(over="ignore", under="ignore"):  # a huge α·log may reach -inf: exp gives 0
         t *= alpha
         np.exp(t, out=t)
@@ -198,10 +208,10 @@ def cos_power(d, lit, shininess):
     return t
 
 
-def _power_by_squaring(d, lit, k):
-    """``max(0, 1 − d)^k`` for an integer ``k ≥ 1``, gated by ``lit``; reuses ``d``."""
-    dtype = d.dtype
-    c = np.subtract(dtype.type(1), d, out=d)
+def _power_by_squaring(d_cos, lit, k):
+    """``max(0, 1 − d_cos)^k`` for an integer ``k ≥ 1``, gated by ``lit``; reuses ``d_cos``."""
+    dtype = d_cos.dtype
+    c = np.subtract(dtype.type(1), d_cos, out=d_cos)
     np.maximum(c, const_row(0, c.shape, dtype), out=c)  # clamp cos to [0, 1]
     c *= lit  # exactly 0 where unlit: 0^k = 0
     # square c for each bit of k, multiplying the squares of the set bits together

@@ -13,7 +13,7 @@ Colours leave the core unclamped; they are clipped to [0, 1] and scaled to
 Every function takes ``mistake=``: None (the default) shades correctly with
 :func:`phonglab.scene.shade`; a name from :data:`phonglab.teaching.MISTAKES`
 shades with that deliberately wrong variant instead (a lesson's "common
-mistake"), through :func:`phonglab.teaching.shade_scene`. A mistake that
+mistake"), through :func:`phonglab.scene.shade`'s ``mistake=``. A mistake that
 needs the interpolated, not renormalised, normals gets them in pixel mode
 (:attr:`GBuffer.raw_normals`); per vertex and per face the normals are unit
 vectors, so that mistake cannot show there (:func:`mistake_note` says so).
@@ -43,21 +43,16 @@ def shade(scene, points, normals, mistake: str | None = None):
     mistake : str or None
         None shades correctly. A name from :data:`phonglab.teaching.MISTAKES`
         shades with that deliberately wrong variant
-        (:func:`phonglab.teaching.shade_scene`).
+        (:func:`phonglab.scene.shade` with ``mistake=``).
 
     Raises
     ------
     ValueError
         For an unknown mistake name (the message lists the names allowed).
     """
-    if mistake is None:
-        from phonglab import scene as scene_module
+    from phonglab.scene.planner import shade as scene_shade
 
-        return scene_module.shade(scene, points, normals)
-    # the wrong variants live in the teaching package, imported only when one is asked for
-    from phonglab.teaching import shade_scene
-
-    return shade_scene(scene, points, normals, mistake)
+    return scene_shade(scene, points, normals, mistake=mistake)
 
 
 def get_mistake(name: str):

@@ -5,7 +5,8 @@ of the Phong sum the scene's material and lights need, and adds what the
 scene itself decides: where shading is evaluated (per triangle, per vertex or
 per pixel). :func:`shade` runs the core with that plan, so a skipped effect
 costs nothing; ``full=True`` runs the full evaluation instead, the reference
-the planned result matches to within an ulp.
+the planned result matches to within an ulp, and ``mistake=`` shades with
+one of the teaching layer's deliberately wrong variants instead.
 """
 
 from __future__ import annotations
@@ -105,7 +106,8 @@ def plan(scene: Scene) -> ScenePlan:
     return ScenePlan(tuple(computed), tuple(skipped), core_plan, area is not None)
 
 
-def shade(scene: Scene, points, normals, *, full: bool = False, scene_plan: ScenePlan | None = None) -> core.Shading:
+def shade(scene: Scene, points, normals, *, full: bool = False, scene_plan: ScenePlan | None = None,
+          mistake: str | None = None) -> core.Shading:
     """Shade ``points`` with ``normals`` under the scene's material, lights and viewer.
 
     Parameters
@@ -116,12 +118,29 @@ def shade(scene: Scene, points, normals, *, full: bool = False, scene_plan: Scen
         Evaluate every term of the model instead of the scene's plan.
     scene_plan : ScenePlan, optional
         A plan already made for this scene by :func:`plan` (saves remaking it).
+    mistake : str, optional
+        A name from :data:`phonglab.teaching.MISTAKES`: shade with that
+        deliberately wrong variant of the model (the core's reference kernel
+        with one step changed) instead, with the scene's material, lights,
+        model, two-sidedness and viewer. The scene's area light is not added
+        to a mistake's shading.
 
     Returns
     -------
     phonglab.core.Shading
         ``ambient``, ``diffuse``, ``specular``, ``emission`` and ``color``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown mistake name (the message lists the names allowed).
     """
+    if mistake is not None:
+        # the wrong variants live in the teaching layer, imported only when one is asked for
+        from phonglab.teaching import get_mistake
+
+        return get_mistake(mistake).shade(points, normals, material=scene.material, lights=scene.lights,
+                                          model=scene.model, two_sided=scene.two_sided, **viewer(scene))
     scene_plan = None if full else (scene_plan or plan(scene))
     shading = core.shade(
         points,
@@ -141,10 +160,10 @@ def shade(scene: Scene, points, normals, *, full: bool = False, scene_plan: Scen
 def _add_area_light(scene: Scene, points, normals, shading: core.Shading) -> core.Shading:
     """The shading with the scene's area light added to its diffuse term and colour."""
     normals = np.asarray(normals)
-    if scene.two_sided:  # the same flip the core makes: normals facing away from the eye
+    if scene.two_sided:  # the core's flip: normals facing away from the eye are turned towards it
         to_eye = (core.normalize(np.broadcast_to(scene.camera.view_direction, np.shape(points)))
                   if scene.camera.infinite_viewer else np.subtract(scene.camera.eye, points))
-        normals = np.where((core.dot(normals, to_eye) < 0)[..., None], -normals, normals)
+        normals = core.face_forward(normals, to_eye)
     area = scene.area_light
     # a fixed seed: Monte Carlo noise stays put while sliders move
     extra = core.area_diffuse(points, normals, material=scene.material, light=area.light,

@@ -3,8 +3,10 @@
 :mod:`phonglab.teaching.mistakes` holds deliberately wrong versions of the
 shading (no ``max(0, ·)`` on ``n·l``, specular without the ``n·l`` gate,
 interpolated normals not renormalised, shininess 0) that a lesson's
-"common mistake" view shows next to the correct picture. The core never
-imports this package.
+"common mistake" view shows next to the correct picture: each is the core's
+reference kernel with one step replaced. This package imports the core only;
+the core never imports it. To shade a scene with a mistake, use
+``phonglab.scene.shade(scene, points, normals, mistake=name)``.
 """
 
 from phonglab.teaching.mistakes import (
@@ -12,8 +14,6 @@ from phonglab.teaching.mistakes import (
     Mistake,
     get_mistake,
     no_clamp_diffuse,
-    shade_scene,
-    textbook,
     ungated_specular,
     unnormalised_normals,
     zero_shininess,
@@ -24,8 +24,6 @@ __all__ = [
     "Mistake",
     "get_mistake",
     "no_clamp_diffuse",
-    "shade_scene",
-    "textbook",
     "ungated_specular",
     "unnormalised_normals",
     "zero_shininess",

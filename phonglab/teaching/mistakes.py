@@ -8,9 +8,9 @@ nothing here is used to draw a correct image.
 Each variant takes the inputs of :func:`phonglab.core.shade` (``points``,
 ``normals``, ``material``, ``lights``, ``eye`` or ``view_direction``,
 ``model``, ``two_sided``) and returns the same :class:`phonglab.core.Shading`.
-They all run one plain, textbook evaluation of the model (:func:`textbook`),
-built from the core's public vector functions (``normalize``, ``reflect``,
-``dot``), with one of its three steps swapped for a wrong one:
+Each is the core's reference kernel, :func:`phonglab.core.shade_reference`
+(the model written one light at a time), with one line changed: one of its
+three :class:`~phonglab.core.Steps` swapped for a wrong one.
 
 =========================  ===================================================
 step                       correct version / wrong version
@@ -21,9 +21,9 @@ the specular weight        ``max(0, c)^α`` where ``n·l > 0`` / no ``n·l`` gat
                            ``α`` replaced by 0
 =========================  ===================================================
 
-With none of the steps swapped, :func:`textbook` agrees with the core to
-rounding error; the tests hold each mistake to that: it differs from the core
-exactly where its bug bites and agrees everywhere else.
+The reference kernel agrees with the fast one to rounding error; the tests
+hold each mistake to that: it differs from the core exactly where its bug
+bites and agrees everywhere else.
 
 Directions point *away from the surface point*: ``n`` the normal, ``l``
 towards the light, ``v`` towards the eye, ``r = 2(n·l)n − l``,
@@ -33,13 +33,13 @@ towards the light, ``v`` towards the eye, ``r = 2(n·l)n − l``,
 from __future__ import annotations
 
 import difflib
-import math
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
-from phonglab import core as pl
+from phonglab.core.reference import Steps, shade_reference
+from phonglab.core.reference import lambert, specular_lobe, unit_normal  # noqa: F401  (the correct steps, shown here)
 
 __all__ = [
     "Mistake",
@@ -49,178 +49,45 @@ __all__ = [
     "ungated_specular",
     "unnormalised_normals",
     "zero_shininess",
-    "textbook",
 ]
 
 
 # ---------------------------------------------------------------------------
 # the three steps that the mistakes get wrong, each next to its correct form
-
-
-def unit_normal(normals):
-    """Correct: renormalise the normal before using it, ``n = normalize(n)``."""
-    return pl.normalize(normals)
+# (the correct ones are the reference kernel's defaults, imported above:
+# unit_normal, lambert, specular_lobe)
 
 
 def raw_normal(normals):
-    """WRONG: use the normal as it comes, even when it is shorter than 1."""
+    """WRONG normal: used as it comes, even when it is shorter than 1 (correct: :func:`unit_normal`)."""
     return normals
 
 
-def lambert(nl):
-    """Correct diffuse weight: ``max(0, n·l)``; a light behind the surface adds nothing."""
-    return np.maximum(nl, 0)
-
-
 def lambert_unclamped(nl):
-    """WRONG diffuse weight: ``n·l``, negative where the light is behind the surface."""
+    """WRONG diffuse weight: ``n·l``, negative where the light is behind the surface (correct: :func:`lambert`)."""
     return nl
 
 
-def specular_lobe(nl, c, shininess):
-    """Correct specular weight: ``max(0, c)^α`` where ``n·l > 0`` and ``c > 0``, else 0."""
-    lit = (nl > 0) & (c > 0)
-    return np.where(lit, np.maximum(c, 0) ** shininess, 0)
-
-
 def specular_lobe_ungated(nl, c, shininess):
-    """WRONG specular weight: ``max(0, c)^α`` wherever ``c > 0``, whatever the sign of ``n·l``."""
+    """WRONG specular weight: ``max(0, c)^α`` wherever ``c > 0``, whatever the sign of ``n·l``.
+
+    Correct: :func:`specular_lobe`, which is 0 where ``n·l ≤ 0``.
+    """
     return np.where(c > 0, np.maximum(c, 0) ** shininess, 0)
 
 
 def specular_lobe_zero_exponent(nl, c, shininess):
-    """WRONG specular weight: ``max(0, c)^0``, which is 1 at every lit point (0^0 = 1 too)."""
+    """WRONG specular weight: ``max(0, c)^0``, which is 1 at every lit point (0^0 = 1 too).
+
+    Correct: :func:`specular_lobe`, with the material's α.
+    """
     return np.where(nl > 0, np.maximum(c, 0) ** 0.0, 0)
 
 
-# ---------------------------------------------------------------------------
-# one textbook evaluation of the model, with the steps as parameters
-
-
-def _viewer(eye, view_direction):
-    if (eye is None) == (view_direction is None):
-        raise ValueError("eye: give exactly one of eye= (a local viewer) or view_direction= (an infinite viewer)")
-    return eye, view_direction
-
-
-def _light_factor(light, distance, l):
-    """``f_l``: distance attenuation times the spotlight factor (1 for a directional light)."""
-    if isinstance(light, pl.DirectionalLight):
-        return 1.0
-    a, b, c = light.attenuation
-    d = np.maximum(distance, pl.DISTANCE_FLOOR)
-    f = 1.0 / np.maximum(a + b * d + c * d * d, 1.0 / pl.ATTENUATION_MAX)
-    if isinstance(light, pl.SpotLight) and light.is_cone:
-        # cosine of the angle between the spot's axis and the ray light -> point
-        cos_axis = -pl.dot(l, pl.normalize(np.asarray(light.direction, dtype=l.dtype)))
-        inside = cos_axis >= math.cos(math.radians(light.cutoff))
-        f = f * np.where(inside, np.maximum(cos_axis, 0) ** light.exponent, 0)
-    return f
-
-
-def textbook(
-    points,
-    normals,
-    *,
-    material,
-    lights,
-    eye=None,
-    view_direction=None,
-    model="phong",
-    two_sided=False,
-    plan=None,
-    normal_step: Callable = unit_normal,
-    diffuse_step: Callable = lambert,
-    specular_step: Callable = specular_lobe,
-):
-    """The Phong model evaluated the plain way, one light at a time.
-
-    Parameters
-    ----------
-    points, normals : array_like, shape (..., 3)
-    material : phonglab.core.Material
-    lights : sequence of phonglab.core lights
-    eye, view_direction : 3 floats, keyword-only
-        A local viewer at ``eye`` or an infinite one along ``view_direction``
-        (exactly one of them).
-    model : {"phong", "blinn-phong"}
-    two_sided : bool
-        Negate normals facing away from the eye (``n·v < 0``).
-    plan : ignored
-        Accepted so a caller can pass the arguments it gives
-        :func:`phonglab.core.shade`; every term is always evaluated here.
-    normal_step, diffuse_step, specular_step : callable
-        The three steps a mistake may replace (see the module docstring).
-
-    Returns
-    -------
-    phonglab.core.Shading
-        Float32 when both ``points`` and ``normals`` are float32, else float64.
-
-    Notes
-    -----
-    .. math::
-
-        I = k_e + k_a \\circ I_a + \\sum_l f_l \\left[ k_d \\circ I_{d,l}
-            \\max(0, n\\cdot l) + k_s \\circ I_{s,l} \\max(0, c_l)^{\\alpha} \\right]
-
-    With the default steps this is the correct model, and matches
-    :func:`phonglab.core.shade` to rounding error.
-    """
-    del plan  # every term is evaluated
-    eye, view_direction = _viewer(eye, view_direction)
-    if model not in pl.MODELS:
-        raise ValueError(f"model: must be one of {', '.join(pl.MODELS)}, got {model!r}")
-    points, normals = np.asarray(points), np.asarray(normals)
-    dtype = np.result_type(points.dtype, normals.dtype, np.float32)
-    points, normals = np.broadcast_arrays(points.astype(dtype), normals.astype(dtype))
-
-    # the normal, and the direction to the eye
-    n = normal_step(normals)
-    if eye is not None:
-        v = pl.normalize(np.asarray(eye, dtype) - points)
-    else:
-        v = np.broadcast_to(pl.normalize(np.asarray(view_direction, dtype)), points.shape)
-    if two_sided:
-        # two-sided: negate the normals that face away from the eye
-        n = np.where((pl.dot(n, v) < 0)[..., None], -n, n)
-
-    # ambient and emission: the same at every point
-    ia = np.zeros(3)
-    for light in lights:
-        if isinstance(light, pl.AmbientLight):
-            ia += light.ambient_rgb
-    ambient = np.broadcast_to((np.asarray(material.ka) * ia).astype(dtype), points.shape)
-    emission = np.broadcast_to(np.asarray(material.emission, dtype), points.shape)
-
-    diffuse = np.zeros(points.shape, dtype)
-    specular = np.zeros(points.shape, dtype)
-    for light in lights:
-        if isinstance(light, pl.AmbientLight):
-            continue
-        # direction to the light and its distance
-        if isinstance(light, pl.DirectionalLight):
-            l = np.broadcast_to(pl.normalize(np.asarray(light.direction, dtype)), points.shape)
-            distance = None
-        else:
-            l, distance = pl.normalize(np.asarray(light.position, dtype) - points, return_length=True)
-        f = np.asarray(_light_factor(light, distance, l), dtype)[..., None]
-        nl = pl.dot(n, l)
-
-        # diffuse: k_d I_d times the diffuse weight
-        kd_id = np.asarray(material.kd) * np.asarray(light.diffuse_rgb)
-        diffuse += (f * kd_id * diffuse_step(nl)[..., None]).astype(dtype)
-
-        # specular: k_s I_s times the specular weight of r·v or n·h
-        if model == "phong":
-            c = pl.dot(pl.reflect(l, n), v)
-        else:
-            c = pl.dot(n, pl.normalize(l + v))
-        ks_is = np.asarray(material.ks) * np.asarray(light.specular_rgb)
-        specular += (f * ks_is * specular_step(nl, c, material.shininess)[..., None]).astype(dtype)
-
-    color = ambient + emission + diffuse + specular
-    return pl.Shading(ambient=ambient, diffuse=diffuse, specular=specular, emission=emission, color=color)
+def _with_step(points, normals, shade_args, **step):
+    """The reference kernel with one step replaced; ``plan=`` is accepted and ignored."""
+    shade_args.pop("plan", None)  # every term is evaluated
+    return shade_reference(points, normals, steps=Steps(**step), **shade_args)
 
 
 # ---------------------------------------------------------------------------
@@ -246,7 +113,7 @@ def no_clamp_diffuse(points, normals, **shade_args):
 
     Parameters and returns are those of :func:`phonglab.core.shade`.
     """
-    return textbook(points, normals, diffuse_step=lambert_unclamped, **shade_args)
+    return _with_step(points, normals, shade_args, diffuse_weight=lambert_unclamped)
 
 
 def ungated_specular(points, normals, **shade_args):
@@ -269,7 +136,7 @@ def ungated_specular(points, normals, **shade_args):
 
     Parameters and returns are those of :func:`phonglab.core.shade`.
     """
-    return textbook(points, normals, specular_step=specular_lobe_ungated, **shade_args)
+    return _with_step(points, normals, shade_args, specular_weight=specular_lobe_ungated)
 
 
 def unnormalised_normals(points, normals, **shade_args):
@@ -295,7 +162,7 @@ def unnormalised_normals(points, normals, **shade_args):
     per-pixel shading, with the interpolated (not renormalised) normals.
     Parameters and returns are those of :func:`phonglab.core.shade`.
     """
-    return textbook(points, normals, normal_step=raw_normal, **shade_args)
+    return _with_step(points, normals, shade_args, normal=raw_normal)
 
 
 def zero_shininess(points, normals, **shade_args):
@@ -318,7 +185,7 @@ def zero_shininess(points, normals, **shade_args):
     Parameters and returns are those of :func:`phonglab.core.shade`; the
     material's shininess is ignored.
     """
-    return textbook(points, normals, specular_step=specular_lobe_zero_exponent, **shade_args)
+    return _with_step(points, normals, shade_args, specular_weight=specular_lobe_zero_exponent)
 
 
 @dataclass(frozen=True)
@@ -414,34 +281,3 @@ def get_mistake(name: str) -> Mistake:
         hint = f'; did you mean "{close[0]}"?' if close else ""
         raise ValueError(f"mistake: must be one of {allowed}, got {name!r}{hint}") from None
 
-
-def shade_scene(scene, points, normals, mistake: str | None = None):
-    """Shade ``points`` under a scene, correctly or with a named mistake.
-
-    Parameters
-    ----------
-    scene : phonglab.scene.Scene
-    points, normals : array_like, shape (..., 3)
-    mistake : str or None
-        None shades correctly (:func:`phonglab.scene.shade`); a name from
-        :data:`MISTAKES` uses that wrong variant with the scene's material,
-        lights, viewer, model and two-sidedness.
-
-    Returns
-    -------
-    phonglab.core.Shading
-    """
-    from phonglab import scene as scene_module  # scenes are optional here: imported on use
-    from phonglab.scene import viewer
-
-    if mistake is None:
-        return scene_module.shade(scene, points, normals)
-    return get_mistake(mistake).shade(
-        points,
-        normals,
-        material=scene.material,
-        lights=scene.lights,
-        model=scene.model,
-        two_sided=scene.two_sided,
-        **viewer(scene),
-    )

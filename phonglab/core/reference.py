@@ -1,0 +1,207 @@
+"""The reference kernel: the Phong model written as the lesson writes it.
+
+.. math::
+
+    I = k_e + k_a \\circ I_a + \\sum_l f_l \\left[ k_d \\circ I_{d,l} \\max(0, n\\cdot l)
+        + k_s \\circ I_{s,l} \\max(0, c_l)^{\\alpha} \\right]
+
+with ``c_l = r·v`` (Phong, ``r = 2(n·l)n − l``) or ``c_l = n·h`` (Blinn-Phong,
+``h = normalize(l + v)``), and ``f_l`` the distance attenuation times the
+spotlight factor. Directions point *away from the surface point*: ``n`` the
+normal, ``l`` towards the light, ``v`` towards the eye.
+
+:func:`shade_reference` is this sum, one light at a time, in a few readable
+lines; it *is* the model. The fast kernel :func:`~phonglab.core.shade`
+computes the same sum in blocks, with planned shortcuts and more careful
+arithmetic, and the tests hold it to this one.
+
+Three steps of the sum are parameters (:class:`Steps`): the normal, the
+diffuse weight and the specular weight. Their correct forms are
+:func:`unit_normal`, :func:`lambert` and :func:`specular_lobe`;
+:mod:`phonglab.teaching.mistakes` swaps one of them for a classic wrong
+version to show what that bug looks like.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .checks import as_points, check_lights, check_material, check_model, refuse_nonfinite, viewer
+from .model import AmbientLight, DirectionalLight, Material, SpotLight
+from .physics import attenuation, face_forward, spot_factor
+from .shading import Shading
+from .vectors import dot, normalize, reflect, unit_direction, working_dtype
+
+__all__ = ["Steps", "shade_reference", "unit_normal", "lambert", "specular_lobe"]
+
+
+# ---------------------------------------------------------------------------
+# the replaceable steps, in their correct form
+
+
+def unit_normal(normals):
+    """The normal step: renormalise, ``n = normalize(n)`` (a zero normal stays zero)."""
+    return normalize(normals)
+
+
+def lambert(nl):
+    """The diffuse weight: ``max(0, n·l)``; a light behind the surface adds nothing."""
+    return np.maximum(nl, 0)
+
+
+def specular_lobe(nl, c, shininess):
+    """The specular weight: ``max(0, c)^α`` where ``n·l > 0`` and ``c > 0``, else 0.
+
+    ``c`` is ``r·v`` or ``n·h``. The ``n·l > 0`` gate keeps a light behind
+    the surface from making a highlight; ``c > 0`` makes the weight 0, not 1,
+    where ``c ≤ 0`` at α = 0.
+    """
+    lit = (nl > 0) & (c > 0)
+    return np.where(lit, np.maximum(c, 0) ** shininess, 0)
+
+
+@dataclass(frozen=True)
+class Steps:
+    """The steps of :func:`shade_reference` that can be replaced.
+
+    Attributes
+    ----------
+    normal : callable ``normals -> n``
+        Turns the given normals, shape ``(..., 3)``, into the ``n`` of the
+        sum. Default :func:`unit_normal`.
+    diffuse_weight : callable ``nl -> weight``
+        The factor of ``k_d ∘ I_d`` from ``n·l``, shape ``(...)``. Default
+        :func:`lambert`.
+    specular_weight : callable ``(nl, c, shininess) -> weight``
+        The factor of ``k_s ∘ I_s`` from ``n·l``, ``c`` (``r·v`` or ``n·h``)
+        and α. Default :func:`specular_lobe`.
+    """
+
+    normal: Callable = unit_normal
+    diffuse_weight: Callable = lambert
+    specular_weight: Callable = specular_lobe
+
+
+def shade_reference(
+    points,
+    normals,
+    *,
+    material: Material,
+    lights,
+    eye=None,
+    view_direction=None,
+    model: str = "phong",
+    two_sided: bool = False,
+    steps: Steps = Steps(),
+) -> Shading:
+    """The Phong or Blinn-Phong model evaluated the plain way, one light at a time.
+
+    Parameters
+    ----------
+    points, normals : array_like, shape (..., 3)
+        Surface points and their normals (any length: the normal step
+        renormalises them), finite, broadcasting together.
+    material : Material
+    lights : sequence of Light
+    eye, view_direction : 3 floats, keyword-only
+        A local viewer at ``eye`` (``v = normalize(eye − p)``), or an infinite
+        one, ``v = normalize(view_direction)`` (exactly one of the two).
+    model : {"phong", "blinn-phong"}
+    two_sided : bool
+        Turn normals that face away from the eye towards it
+        (:func:`~phonglab.core.face_forward`).
+    steps : Steps
+        The replaceable steps; the default is the model.
+
+    Returns
+    -------
+    Shading
+        Every term computed, each of shape ``(..., 3)``; float32 when both
+        inputs are float32, else float64.
+
+    Notes
+    -----
+    .. math::
+
+        I = k_e + k_a \\circ I_a + \\sum_l f_l \\left[ k_d \\circ I_{d,l}
+            \\max(0, n\\cdot l) + k_s \\circ I_{s,l} \\max(0, c_l)^{\\alpha} \\right]
+
+    ``f_l`` is :func:`~phonglab.core.attenuation` times
+    :func:`~phonglab.core.spot_factor` (1 for a directional light),
+    ``r`` is :func:`~phonglab.core.reflect`. Specular is 0 where ``n·l ≤ 0``.
+    A zero normal, or a zero ``l``, ``v`` or ``h``, gives zero cosines and so
+    no direct light. The cosine ``c_l`` is computed directly, so for a large
+    α near the highlight this kernel is less accurate than
+    :func:`~phonglab.core.shade` (about ``α`` ulps of the specular term).
+
+    Examples
+    --------
+    >>> import phonglab as pl
+    >>> s = pl.shade_reference([[0, 0, 1.0]], [[0, 0, 1.0]], eye=(0, 0, 5),
+    ...                        material=pl.Material(ka=0.1, kd=0.5, ks=0.5, shininess=10),
+    ...                        lights=[pl.DirectionalLight(direction=(0, 0, 1))])
+    >>> s.diffuse.round(6).tolist(), s.specular.round(6).tolist()
+    ([[0.5, 0.5, 0.5]], [[0.5, 0.5, 0.5]])
+    """
+    check_material(material)
+    lights = check_lights(lights)
+    eye, view_direction = viewer(eye, view_direction)
+    check_model(model)
+    points, normals = as_points("points", points), as_points("normals", normals)
+    refuse_nonfinite("points", points)
+    refuse_nonfinite("normals", normals)
+    dtype = working_dtype(points, normals)
+    points, normals = np.broadcast_arrays(points.astype(dtype), normals.astype(dtype))
+
+    # the normal, and the direction to the eye
+    n = steps.normal(normals)
+    if eye is not None:
+        v = normalize(np.asarray(eye, dtype) - points)
+    else:
+        v = np.broadcast_to(unit_direction(view_direction, dtype), points.shape)
+    if two_sided:
+        n = face_forward(n, v)
+
+    # ambient and emission: the same at every point
+    ia = np.zeros(3)
+    for light in lights:
+        if isinstance(light, AmbientLight):
+            ia += light.ambient_rgb
+    ambient = np.broadcast_to((np.asarray(material.ka) * ia).astype(dtype), points.shape)
+    emission = np.broadcast_to(np.asarray(material.emission, dtype), points.shape)
+
+    diffuse = np.zeros(points.shape, dtype)
+    specular = np.zeros(points.shape, dtype)
+    for light in lights:
+        if isinstance(light, AmbientLight):
+            continue
+        # the direction to the light, and f_l = attenuation × spot
+        if isinstance(light, DirectionalLight):
+            l = np.broadcast_to(unit_direction(light.direction, dtype), points.shape)
+            f = np.ones(points.shape[:-1], dtype)
+        else:
+            l, dist = normalize(np.asarray(light.position, dtype) - points, return_length=True)
+            f = attenuation(dist, light.attenuation)
+            if isinstance(light, SpotLight):
+                axis = unit_direction(light.direction, dtype)
+                f = f * spot_factor(-dot(l, axis), cutoff=light.cutoff, exponent=light.exponent)
+        f = f[..., None]
+        nl = dot(n, l)
+
+        # diffuse: k_d ∘ I_d times the diffuse weight
+        kd_id = np.asarray(material.kd) * np.asarray(light.diffuse_rgb)
+        diffuse += (f * kd_id * steps.diffuse_weight(nl)[..., None]).astype(dtype)
+
+        # specular: k_s ∘ I_s times the specular weight of c = r·v or n·h
+        if model == "phong":
+            c = dot(reflect(l, n), v)
+        else:
+            c = dot(n, normalize(l + v))
+        ks_is = np.asarray(material.ks) * np.asarray(light.specular_rgb)
+        specular += (f * ks_is * steps.specular_weight(nl, c, material.shininess)[..., None]).astype(dtype)
+
+    color = ambient + emission + diffuse + specular
+    return Shading(ambient=ambient, diffuse=diffuse, specular=specular, emission=emission, color=color)
