@@ -176,7 +176,7 @@ def run(args) -> int:
     if args.quick:
         n_points, repeats = 100_000, 3
     if n_points < 1 or repeats < 1:
-        from phonglab.cli import UsageError
+        from phonglab.bench.usage import UsageError
 
         raise UsageError(f"--points and --repeats must be >= 1, got {n_points} and {repeats}")
     result = measure(n_points, repeats, np.dtype(args.dtype))

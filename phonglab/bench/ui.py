@@ -431,7 +431,7 @@ def _verdict(value: float, target: float) -> str:
 def run(args) -> int:
     from playwright.sync_api import sync_playwright
 
-    from phonglab.cli import UsageError
+    from phonglab.bench.usage import UsageError
 
     if not os.path.exists(CHROMIUM):
         raise UsageError(CHROMIUM_MISSING)

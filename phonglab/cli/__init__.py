@@ -20,6 +20,8 @@ import importlib
 import os
 import sys
 
+from phonglab.bench.usage import UsageError  # raised by the subcommands and the benchmarks
+
 #: subcommand name -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
     "serve": ("phonglab.cli.serve", "open the lesson app in a browser"),
@@ -28,10 +30,6 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "plan": ("phonglab.cli.plan", "show which effects a scene computes and skips"),
     "bench": ("phonglab.cli.bench", "measure speed and accuracy (ratios, same run)"),
 }
-
-
-class UsageError(Exception):
-    """Bad input on the command line: printed as one line, exit status 2."""
 
 
 def _load(name: str):
