@@ -114,6 +114,21 @@ def test_a_colour_change_pushes_exactly_the_views_new_colours(app):
     assert np.frombuffer(push["data"], np.uint8).reshape(-1, 3).tolist() == colours.tolist()
 
 
+def test_a_value_change_keeps_the_controls_panel_and_a_new_light_type_redraws_it(app, monkeypatch):
+    from phonglab.app import page
+
+    drawn = []
+    monkeypatch.setattr(page, "build_controls",
+                        lambda server, chosen, all_controls=(): drawn.append([c.key for c in all_controls]))
+    app._on_control("material__ks__level", 0.3)
+    app._on_control("lights_1__azimuth", 20.0)
+    assert drawn == [], "a new value redrew the controls panel"
+    assert app.state.material__ks__level == pytest.approx(0.3) and app.state.lights_1__azimuth == pytest.approx(20)
+    app._on_control("lights_1__type", "directional")
+    assert len(drawn) == 1, f"a point light turned directional redrew the panel {len(drawn)} times"
+    assert "lights_1__elevation" in drawn[0] and "lights_1__distance" not in drawn[0], drawn[0]
+
+
 @pytest.mark.parametrize("key, value", [
     ("material__ks__level", float("nan")),
     ("material__ks__level", "0.4"),
@@ -123,7 +138,7 @@ def test_a_colour_change_pushes_exactly_the_views_new_colours(app):
 ])
 def test_bad_input_is_refused_visibly_and_the_scene_stays(app, key, value):
     scene = app.scene
-    current = app._controls[key].read(scene, app.options)
+    current = app.controls.by_key[key].read(scene, app.options)
     app._on_control(key, value)
     assert app.scene is scene, f"{key} = {value!r} changed the scene"
     assert app.state.notice["kind"] == "error" and "Refused" in app.state.notice["text"], app.state.notice
@@ -229,7 +244,7 @@ def mistake_app(tmp_path):
 
 def test_the_mistake_switch_goes_through_the_view_and_says_when_it_cannot_show(mistake_app):
     app = mistake_app
-    assert app.state.mistake["available"] and "view__mistake" in app._controls
+    assert app.state.mistake["available"] and "view__mistake" in app.controls.by_key
     before = np.array(app.view.mesh.point_data[COLOR_ARRAY])
     app._on_control("view__mistake", True)
     # per vertex the normals are unit vectors: same colours, and the page says why

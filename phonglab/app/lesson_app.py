@@ -38,6 +38,7 @@ from pathlib import Path
 from trame.app import TrameApp
 
 from phonglab.app import controls as ctl
+from phonglab.app.control import Control, ControlError, format_value
 from phonglab.app import page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app.client import MODULE, color_payload
@@ -183,12 +184,11 @@ class LessonApp(TrameApp):
         self.scene = None
         self.options = {"term": "color"}
         self.view = None  # SceneView, created with the first good scene
-        self._controls = {}  # state key -> Control
-        self._watched = set()
+        self.controls = ctl.ControlSet(ctl.Frame())  # the open lesson's controls
+        self._watched = set()  # state keys with a change handler
         self._notice_serial = 0
         self._busy = False
         self._panels_handle = None
-        self._rebuild_pending = False
         self._view_ms = 0.0
         self._camera_moved = False
         self.state.trame__title = "phonglab — the Phong illumination model"
@@ -283,7 +283,10 @@ class LessonApp(TrameApp):
             s.question_html = s.answer_html = ""
             s.mistake, s.mistake_note = None, ""
             s.has_view = self.view is not None
-            self._controls = {}
+            if self._panels_handle is not None:  # a refresh for the previous lesson's scene
+                self._panels_handle.cancel()
+                self._panels_handle = None
+            self.controls = ctl.ControlSet(ctl.Frame())
             page.build_controls(self.server, [])
             self.accuracy.open(None, None)
             return
@@ -298,6 +301,9 @@ class LessonApp(TrameApp):
         s.question_html = text.inline(lesson.question) if lesson and lesson.question else ""
         s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
         s.mistake = self._mistake_info()
+        extra = {"view__mistake": _MISTAKE_SWITCH} if s.mistake and s.mistake.get("available") else {}
+        self.controls = ctl.ControlSet(ctl.Frame.of_camera(entry.scene.camera),
+                                       lesson.controls if lesson else (), extra)
         self.options = {"term": "color"}
         self.accuracy.open(entry, entry.scene)
         self._show_scene(entry.scene, new_lesson=True)
@@ -353,26 +359,23 @@ class LessonApp(TrameApp):
             if new_lesson or (old is not None and old.camera != scene.camera):
                 self.html_view.push_camera()
         self._refresh_pixels()
-        rebuild = new_lesson or old is None or _controls_shape(old) != _controls_shape(scene)
         try:
             loop = asyncio.get_running_loop() if defer_panels else None
         except RuntimeError:  # no server loop (scripts, tests): refresh at once
             loop = None
         if loop is not None:
-            self._rebuild_pending = self._rebuild_pending or rebuild
             if self._panels_handle is None:
                 self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
         else:
-            self._refresh_panels(rebuild_controls=rebuild)
+            self._refresh_panels()
 
     def _deferred_panels(self) -> None:
         """The refresh :meth:`_show_scene` put off; records the update's server time."""
         self._panels_handle = None
-        rebuild, self._rebuild_pending = self._rebuild_pending, False
         start = time.perf_counter()
         try:
             if self.scene is not None:
-                self._refresh_panels(rebuild_controls=rebuild)
+                self._refresh_panels()
                 self.state.flush()
         except Exception as exc:
             log.exception("refreshing the panels")
@@ -430,47 +433,44 @@ class LessonApp(TrameApp):
         Image.fromarray(image).save(buffer, format="PNG", compress_level=1)
         self.state.pixel_src = "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
-    def _refresh_panels(self, *, rebuild_controls: bool) -> None:
+    def _refresh_panels(self) -> None:
+        """The verdict, the readout, the accuracy panel and the controls, for the scene on screen."""
         scene = self.scene
         s = self.state
-        # planner verdict
+        # planner verdict, planned once and shared with the readout
         verdict = plan(scene)
         s.plan_computed = [{"effect": e, "reason": r} for e, r in verdict.computed]
         s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
         # probe readout and vector legend
         point, normal = self.view.probe
-        s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index)
+        s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
+                                  scene_plan=verdict)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
         self.accuracy.follow(scene)
-        # controls
-        frame = ctl.Frame.of_camera(self.entry.scene.camera)
-        all_controls = ctl.scene_controls(scene, frame=frame)
-        chosen = ctl.lesson_controls(all_controls, self.entry.lesson.controls) if self.entry.lesson else []
-        self._controls = ctl.controls_by_key(scene, frame)
-        if self.state.mistake and self.state.mistake.get("available"):
-            self._controls["view__mistake"] = _MISTAKE_SWITCH
+        # controls: drawn again only when their set changes; their values follow every scene
+        rebuilt = self.controls.update(scene)
         self._sync_control_values()
-        if rebuild_controls:
-            self.state.control_labels = {c.key: text.inline(c.label) for c in all_controls}
-            page.build_controls(self.server, chosen, all_controls)
-        for key in self._controls:
-            if key not in self._watched:
-                self._watched.add(key)
-                self.state.change(key)(self._watcher(key))
+        if rebuilt:
+            s.control_labels = {c.key: text.inline(c.label) for c in self.controls.widgets}
+            page.build_controls(self.server, self.controls.chosen, self.controls.widgets)
+            for key in self.controls.by_key:
+                if key not in self._watched:
+                    self._watched.add(key)
+                    s.change(key)(self._watcher(key))
 
     def _sync_control_values(self) -> None:
         """Write every control's value for the current scene into the state."""
-        values = {}
-        for key, control in self._controls.items():
-            value = control.read(self.scene, self.options)
+        shown = {}
+        for key, value in self.controls.values(self.scene, self.options).items():
+            control = self.controls.by_key[key]
             # never echo a browser's own value back with rounding noise: a slider
             # being dragged would jump back to an older position
             if not control.same(self.state[key], value):
                 self.state[key] = value
             if control.kind == "slider":
-                values[key] = ctl.format_value(control, value)
-        if values != self.state.control_values:
-            self.state.control_values = values
+                shown[key] = format_value(control, value)
+        if shown != self.state.control_values:
+            self.state.control_values = shown
 
     # ------------------------------------------------------------------
     # browser input
@@ -482,7 +482,7 @@ class LessonApp(TrameApp):
         return on_change
 
     def _on_control(self, key, value) -> None:
-        control = self._controls.get(key)
+        control = self.controls.by_key.get(key)
         if control is None or self.scene is None or self._busy:
             return
         try:
@@ -493,7 +493,7 @@ class LessonApp(TrameApp):
             self._busy = True
             try:
                 scene, options = control.apply(self.scene, value, self.options)
-            except ctl.ControlError as exc:
+            except ControlError as exc:
                 self.notify("error", f"Refused: {exc}. The previous value stays.")
                 self.state[key] = current
                 return
@@ -618,7 +618,7 @@ class LessonApp(TrameApp):
         trame_vtk_module.HELPERS_PER_SERVER.pop(self.server.name, None)
 
 
-_MISTAKE_SWITCH = ctl.Control(
+_MISTAKE_SWITCH = Control(
     path="view.mistake",
     label="show the mistake",
     kind="switch",
@@ -639,11 +639,6 @@ def _changed(old, new) -> set:
     """The scene's top-level fields that differ."""
     names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light")
     return {name for name in names if getattr(old, name) != getattr(new, name)}
-
-
-def _controls_shape(scene) -> tuple:
-    """What decides which controls exist: the light types."""
-    return tuple(type(light).__name__ for light in scene.lights)
 
 
 def _strip_title(body: str) -> str:
