@@ -12,22 +12,14 @@ from hypothesis import strategies as st
 import phonglab as pl
 from phonglab.app import controls as ctl
 from phonglab.app.control import format_value
-from phonglab.scene import Camera, Geometry, Scene
+from phonglab.bench.scenes import red_sphere
+from phonglab.scene import Camera
 
 
 def make_scene(**overrides):
-    fields = dict(
-        geometry=Geometry(kind="sphere", resolution=16),
-        material=pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40.0),
-        lights=(
-            pl.AmbientLight(intensity=0.2),
-            pl.PointLight(position=(2.0, 2.5, 3.0)),
-            pl.SpotLight(position=(0.0, 3.0, 0.0), direction=(0.0, -3.0, 0.0), cutoff=20.0, exponent=2.0),
-        ),
-        camera=Camera(eye=(0.0, 0.0, 4.0)),
-    )
-    fields.update(overrides)
-    return Scene(**fields)
+    """The red sphere with a spotlight straight above it as a third light."""
+    spot = pl.SpotLight(position=(0.0, 3.0, 0.0), direction=(0.0, -3.0, 0.0), cutoff=20.0, exponent=2.0)
+    return red_sphere(16, lights=(spot,), **overrides)
 
 
 @pytest.fixture(scope="module")
