@@ -207,3 +207,11 @@ def format_value(control: Control, value) -> str:
         alpha = 10.0**value
         return f"{alpha:.0f}" if alpha >= 10 else f"{alpha:.2f}"
     return control.fmt.format(value) + control.unit
+
+
+def finite3(p) -> list[float]:
+    """A point from the browser as 3 finite floats, or ValueError."""
+    values = [float(c) for c in p]
+    if len(values) != 3 or not all(math.isfinite(c) for c in values):
+        raise ValueError(f"a point must be 3 finite numbers, got {p!r}")
+    return values

@@ -500,6 +500,17 @@ def controls_by_key(scene, frame: Frame | None = None, *, read_field=field_value
     return out
 
 
+#: the switch that shows a lesson's common mistake in the view (a view option, not a scene field)
+MISTAKE_SWITCH = Control(
+    path="view.mistake",
+    label="show the mistake",
+    kind="switch",
+    read=lambda scene, options: bool(options.get("mistake", False)),
+    write=lambda scene, value, options: (scene, {**options, "mistake": value}),
+    group="View",
+)
+
+
 def controls_shape(scene) -> tuple:
     """What decides which controls a scene gets: its light types and whether its shape is parametric."""
     return tuple(_light_kind(light) for light in scene.lights), scene.geometry.kind in PARAMETRIC_KINDS

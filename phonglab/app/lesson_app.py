@@ -30,7 +30,6 @@ import base64
 import functools
 import io
 import logging
-import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,7 +37,7 @@ from pathlib import Path
 from trame.app import TrameApp
 
 from phonglab.app import controls as ctl
-from phonglab.app.control import Control, ControlError, format_value
+from phonglab.app.control import ControlError, finite3, format_value
 from phonglab.app import page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app.client import MODULE, color_payload
@@ -219,35 +218,11 @@ class LessonApp(TrameApp):
 
     def _init_state(self):
         s = self.state
-        s.drawer = False
+        s.update(page.initial_state())
         s.lessons = [
             {"index": i, "number": e.number, "title": e.title, "ok": e.ok, "problems": len(e.errors)}
             for i, e in enumerate(self.entries)
         ]
-        s.lesson_index = -1
-        s.lesson_title = ""
-        s.lesson_number = None
-        s.lesson_goal_html = ""
-        s.lesson_html = ""
-        s.lesson_errors = []
-        s.experiments = []
-        s.question_html = ""
-        s.answer_html = ""
-        s.show_answer = False
-        s.readout = None
-        s.plan_computed = []
-        s.plan_skipped = []
-        s.legend = []
-        s.notice = None
-        s.view_colors = None
-        s.pixel_src = ""
-        s.pixel_mode = False
-        s.control_values = {}
-        s.control_labels = {}
-        s.has_view = False
-        s.pick_target = "probe"
-        s.mistake = None
-        s.mistake_note = ""
 
     def notify(self, kind: str, message: str) -> None:
         """Show a message above the controls (kind: "error", "success", "info")."""
@@ -293,7 +268,7 @@ class LessonApp(TrameApp):
         s.lesson_errors = []
         lesson = entry.lesson
         s.lesson_goal_html = text.inline(lesson.goal) if lesson and lesson.goal else ""
-        s.lesson_html = text.render_markdown(_strip_title(lesson.body)) if lesson else ""
+        s.lesson_html = text.render_markdown(text.strip_title(lesson.body)) if lesson else ""
         s.experiments = [
             {"index": i, "label": text.inline(x.label), "text": text.inline(x.text) if x.text else ""}
             for i, x in enumerate(lesson.experiments)
@@ -301,7 +276,7 @@ class LessonApp(TrameApp):
         s.question_html = text.inline(lesson.question) if lesson and lesson.question else ""
         s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
         s.mistake = self._mistake_info()
-        extra = {"view__mistake": _MISTAKE_SWITCH} if s.mistake and s.mistake.get("available") else {}
+        extra = {"view__mistake": ctl.MISTAKE_SWITCH} if s.mistake and s.mistake.get("available") else {}
         self.controls = ctl.ControlSet(ctl.Frame.of_camera(entry.scene.camera),
                                        lesson.controls if lesson else (), extra)
         self.options = {"term": "color"}
@@ -517,7 +492,7 @@ class LessonApp(TrameApp):
             ray = (event or {}).get("ray") if isinstance(event, dict) else None
             if not (isinstance(ray, list) and len(ray) == 2):
                 return
-            near, far = (_finite3(p) for p in ray)
+            near, far = (finite3(p) for p in ray)
             hit = self.view.ray_hit(near, far)
             if hit is None:
                 return
@@ -550,9 +525,9 @@ class LessonApp(TrameApp):
             if not isinstance(camera, dict):
                 return
             self.view.set_camera(
-                eye=_finite3(camera.get("position")),
-                focal_point=_finite3(camera.get("focalPoint")),
-                up=_finite3(camera.get("viewUp")),
+                eye=finite3(camera.get("position")),
+                focal_point=finite3(camera.get("focalPoint")),
+                up=finite3(camera.get("viewUp")),
                 view_angle=float(camera.get("viewAngle", self.scene.camera.view_angle)),
             )
             self._camera_moved = True
@@ -618,32 +593,7 @@ class LessonApp(TrameApp):
         trame_vtk_module.HELPERS_PER_SERVER.pop(self.server.name, None)
 
 
-_MISTAKE_SWITCH = Control(
-    path="view.mistake",
-    label="show the mistake",
-    kind="switch",
-    read=lambda scene, options: bool(options.get("mistake", False)),
-    write=lambda scene, value, options: (scene, {**options, "mistake": value}),
-    group="View",
-)
-
-
-def _finite3(p):
-    values = [float(c) for c in p]
-    if len(values) != 3 or not all(math.isfinite(c) for c in values):
-        raise ValueError(f"a point must be 3 finite numbers, got {p!r}")
-    return values
-
-
 def _changed(old, new) -> set:
     """The scene's top-level fields that differ."""
     names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light")
     return {name for name in names if getattr(old, name) != getattr(new, name)}
-
-
-def _strip_title(body: str) -> str:
-    """The lesson body without its first ``#`` heading (the page shows the title itself)."""
-    lines = body.lstrip("\n").splitlines()
-    if lines and lines[0].startswith("# "):
-        lines = lines[1:]
-    return "\n".join(lines)

@@ -3,8 +3,10 @@
 This module only draws. It knows the state keys the app fills (``lesson_html``,
 ``readout``, ``control_values``, ...; see :class:`~phonglab.app.lesson_app.LessonApp`)
 and calls back into the app through :class:`Handlers`; it keeps no state of
-its own. Two entry points:
+its own. Its entry points:
 
+* :func:`initial_state` gives every state key the page shows, with the value
+  it has before a lesson is open;
 * :func:`build_page` lays out the whole page once per tab: the bar, the
   lesson list, the lesson's text, the view with its tools, the accuracy
   panel, the readout and the planner's verdict;
@@ -29,7 +31,40 @@ from trame.widgets import vuetify3 as v3
 from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
 from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
 from phonglab.app.client import ColorPush
-from phonglab.app.controls import TERMS, Control
+from phonglab.app.control import Control
+from phonglab.app.controls import TERMS
+
+
+def initial_state() -> dict:
+    """Every state key the page shows, with its value before a lesson is open (new objects each call)."""
+    return {
+        "drawer": False,
+        "lesson_index": -1,
+        "lesson_title": "",
+        "lesson_number": None,
+        "lesson_goal_html": "",
+        "lesson_html": "",
+        "lesson_errors": [],
+        "experiments": [],
+        "question_html": "",
+        "answer_html": "",
+        "show_answer": False,
+        "readout": None,
+        "plan_computed": [],
+        "plan_skipped": [],
+        "legend": [],
+        "notice": None,
+        "view_colors": None,
+        "pixel_src": "",
+        "pixel_mode": False,
+        "control_values": {},
+        "control_labels": {},
+        "has_view": False,
+        "pick_target": "probe",
+        "mistake": None,
+        "mistake_note": "",
+    }
+
 
 #: the name of the controls panel's template (:func:`build_controls`)
 CONTROLS_TEMPLATE = "phonglab_controls"
