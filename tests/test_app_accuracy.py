@@ -13,35 +13,9 @@ from PIL import Image
 from phonglab.accuracy import error_images
 from phonglab.app import accuracy_panel as panel
 from phonglab.app.lesson_app import LessonApp
+from phonglab.bench.scenes import LESSONS
 
-ACCURACY = """\
-+++
-number = 11
-title = "Accuracy costs time"
-controls = ["interpolation", "geometry.resolution", "material.shininess"]
-interpolation = "gouraud"
-
-[geometry]
-kind = "sphere"
-resolution = 16
-
-[material]
-ka = 0.1
-kd = [0.8, 0.3, 0.2]
-ks = 0.8
-shininess = 200
-
-[[lights]]
-type = "ambient"
-intensity = 0.2
-
-[[lights]]
-type = "point"
-position = [2, 2.5, 3]
-+++
-
-# Accuracy costs time
-"""
+ACCURACY = LESSONS["11-accuracy.md"]
 
 OTHER = ACCURACY.replace("number = 11", "number = 1").replace('title = "Accuracy costs time"', 'title = "Sphere"')
 

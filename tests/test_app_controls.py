@@ -11,22 +11,15 @@ from hypothesis import strategies as st
 
 import phonglab as pl
 from phonglab.app import controls as ctl
-from phonglab.scene import Camera, Geometry, Scene
+from phonglab.app.control import format_value
+from phonglab.bench.scenes import red_sphere
+from phonglab.scene import Camera
 
 
 def make_scene(**overrides):
-    fields = dict(
-        geometry=Geometry(kind="sphere", resolution=16),
-        material=pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40.0),
-        lights=(
-            pl.AmbientLight(intensity=0.2),
-            pl.PointLight(position=(2.0, 2.5, 3.0)),
-            pl.SpotLight(position=(0.0, 3.0, 0.0), direction=(0.0, -3.0, 0.0), cutoff=20.0, exponent=2.0),
-        ),
-        camera=Camera(eye=(0.0, 0.0, 4.0)),
-    )
-    fields.update(overrides)
-    return Scene(**fields)
+    """The red sphere with a spotlight straight above it as a third light."""
+    spot = pl.SpotLight(position=(0.0, 3.0, 0.0), direction=(0.0, -3.0, 0.0), cutoff=20.0, exponent=2.0)
+    return red_sphere(16, lights=(spot,), **overrides)
 
 
 @pytest.fixture(scope="module")
@@ -94,7 +87,7 @@ def test_shininess_slider_is_log10_alpha_over_1_to_1000(scene, by_path):
     for log_alpha, alpha in ((0.0, 1.0), (1.5, 10**1.5), (3.0, 1000.0)):
         new, _ = control.apply(scene, log_alpha, {})
         assert new.material.shininess == pytest.approx(alpha, rel=1e-5), log_alpha
-    assert ctl.format_value(control, 2.0) == "100"
+    assert format_value(control, 2.0) == "100"
 
 
 def test_level_and_colour_split_an_rgb_coefficient(scene, by_path):
@@ -224,3 +217,36 @@ def test_every_control_reads_a_value_its_own_check_accepts(scene):
         if control.kind == "slider":
             value = min(max(value, control.low), control.high)
         assert control.check(value) is not None or control.kind == "switch", (control.path, value)
+
+
+# ---------------------------------------------------------------------------
+# one tab's control set
+
+
+def test_a_control_set_is_rebuilt_only_when_the_light_types_change(scene):
+    controls = ctl.ControlSet(ctl.Frame.of_camera(scene.camera), ["material.ks"])
+    assert controls.update(scene), "the first scene builds the set"
+    widgets = controls.widgets
+    assert [c.path for c in controls.chosen] == ["material.ks.level", "material.ks.color"]
+    brighter = scene.replace("material.ks", [0.9, 0.9, 0.9]).replace("lights[1].position", [1, 2, 3])
+    assert not controls.update(brighter), "a new value rebuilt the set"
+    assert controls.widgets is widgets
+    values = controls.values(brighter, {"term": "color"})
+    assert values["material__ks"] == [0.9, 0.9, 0.9] and values["lights_1__position"] == [1.0, 2.0, 3.0], values
+    directional = brighter.replace("lights[1].type", "directional")
+    assert controls.update(directional), "a light of another type kept the old set"
+    assert "lights_1__direction" in controls.by_key and "lights_1__distance" not in controls.by_key
+
+
+def test_a_control_sets_field_reads_equal_the_scene_layers_and_are_its_own(scene):
+    from phonglab.scene import field_value
+
+    first, second = (ctl.ControlSet(ctl.Frame.of_camera(scene.camera)) for _ in range(2))
+    other = scene.replace("material.kd", [0.1, 0.2, 0.3])
+    for path in ("material.kd", "lights[1].position", "lights[2].cutoff", "camera.eye", "probe", "model"):
+        assert first.read_field(scene, path) == field_value(scene, path), path
+        assert second.read_field(other, path) == field_value(other, path), path
+        assert first.read_field(scene, path) == field_value(scene, path), f"{path}: the other set's scene leaked in"
+    # a value handed out is a copy: changing it changes nothing for the next reader
+    first.read_field(scene, "material.kd").append(9)
+    assert first.read_field(scene, "material.kd") == [0.8, 0.3, 0.2]

@@ -10,66 +10,33 @@ import pytest
 import phonglab as pl
 from phonglab.app.lesson_app import LessonApp, catalog
 from phonglab.app.readout import probe_readout
+from phonglab.bench.scenes import lesson, red_sphere_tables, write_lessons
 from phonglab.render.glyphs import COLOR_ARRAY
 from phonglab.scene import load_lesson
 
-GOOD = """\
-+++
+#: the red sphere with two of its controls and a probe
+GOOD = lesson(
+    """
 number = 1
 title = "Sphere"
 goal = "See $k_s$."
 controls = ["material.ks", "material.shininess"]
 probe = [0.3, 0.4, 0.866]
-
-[geometry]
-kind = "sphere"
-resolution = 24
-
-[material]
-ka = 0.1
-kd = [0.8, 0.3, 0.2]
-ks = 0.6
-shininess = 20
-
-[[lights]]
-type = "ambient"
-intensity = 0.2
-
-[[lights]]
-type = "point"
-position = [2, 2.5, 3]
-
-[camera]
-eye = [0, 0, 4]
-+++
-
+""",
+    red_sphere_tables(24),
+    r"""
 # Sphere
 
-Diffuse is $k_d \\max(0, n\\cdot l)$.
-"""
-
-BROKEN = """\
-+++
-title = "Broken"
-number = 2
-[geometry]
-kind = "sphere"
-[material]
-ka = 0.1
-kd = -3
-ks = 0.5
-shininess = 40
-+++
-# Broken
-"""
+Diffuse is $k_d \max(0, n\cdot l)$.
+""",
+)
 
 
 @pytest.fixture(scope="module")
 def lessons(tmp_path_factory):
     folder = tmp_path_factory.mktemp("lessons")
     (folder / "01-sphere.md").write_text(GOOD, encoding="utf-8")
-    (folder / "02-broken.md").write_text(BROKEN, encoding="utf-8")
-    return folder
+    return write_lessons(folder, ["03-broken.md"])
 
 
 @pytest.fixture
@@ -83,8 +50,8 @@ def app(lessons, tmp_path):
 
 
 def test_catalog_lists_good_and_broken_lessons_with_their_titles(lessons):
-    entries, first = catalog(lessons / "02-broken.md")
-    assert [(e.number, e.title, e.ok) for e in entries] == [(1, "Sphere", True), (2, "Broken", False)]
+    entries, first = catalog(lessons / "03-broken.md")
+    assert [(e.number, e.title, e.ok) for e in entries] == [(1, "Sphere", True), (3, "A broken lesson", False)]
     assert first == 1
     assert any("material.kd" in e and "-3" in e for e in entries[1].errors), entries[1].errors
 
@@ -96,10 +63,10 @@ def test_opening_lessons_fills_text_controls_and_errors(app):
     assert s.material__ks__level == pytest.approx(0.6)
     assert s.material__shininess__log == pytest.approx(np.log10(20))
     app.open_lesson(1)
-    assert s.lesson_errors and "02-broken.md" in s.lesson_errors[0], s.lesson_errors
+    assert s.lesson_errors and "03-broken.md" in s.lesson_errors[0], s.lesson_errors
     app.open_lesson(7)
     assert s.notice["kind"] == "error" and "no such lesson" in s.notice["text"]
-    assert s.lesson_title == "Broken", "a bad index leaves the page as it was"
+    assert s.lesson_title == "A broken lesson", "a bad index leaves the page as it was"
 
 
 def test_a_colour_change_pushes_exactly_the_views_new_colours(app):
@@ -114,6 +81,21 @@ def test_a_colour_change_pushes_exactly_the_views_new_colours(app):
     assert np.frombuffer(push["data"], np.uint8).reshape(-1, 3).tolist() == colours.tolist()
 
 
+def test_a_value_change_keeps_the_controls_panel_and_a_new_light_type_redraws_it(app, monkeypatch):
+    from phonglab.app import page
+
+    drawn = []
+    monkeypatch.setattr(page, "build_controls",
+                        lambda server, chosen, all_controls=(): drawn.append([c.key for c in all_controls]))
+    app._on_control("material__ks__level", 0.3)
+    app._on_control("lights_1__azimuth", 20.0)
+    assert drawn == [], "a new value redrew the controls panel"
+    assert app.state.material__ks__level == pytest.approx(0.3) and app.state.lights_1__azimuth == pytest.approx(20)
+    app._on_control("lights_1__type", "directional")
+    assert len(drawn) == 1, f"a point light turned directional redrew the panel {len(drawn)} times"
+    assert "lights_1__elevation" in drawn[0] and "lights_1__distance" not in drawn[0], drawn[0]
+
+
 @pytest.mark.parametrize("key, value", [
     ("material__ks__level", float("nan")),
     ("material__ks__level", "0.4"),
@@ -123,7 +105,7 @@ def test_a_colour_change_pushes_exactly_the_views_new_colours(app):
 ])
 def test_bad_input_is_refused_visibly_and_the_scene_stays(app, key, value):
     scene = app.scene
-    current = app._controls[key].read(scene, app.options)
+    current = app.controls.by_key[key].read(scene, app.options)
     app._on_control(key, value)
     assert app.scene is scene, f"{key} = {value!r} changed the scene"
     assert app.state.notice["kind"] == "error" and "Refused" in app.state.notice["text"], app.state.notice
@@ -229,7 +211,7 @@ def mistake_app(tmp_path):
 
 def test_the_mistake_switch_goes_through_the_view_and_says_when_it_cannot_show(mistake_app):
     app = mistake_app
-    assert app.state.mistake["available"] and "view__mistake" in app._controls
+    assert app.state.mistake["available"] and "view__mistake" in app.controls.by_key
     before = np.array(app.view.mesh.point_data[COLOR_ARRAY])
     app._on_control("view__mistake", True)
     # per vertex the normals are unit vectors: same colours, and the page says why

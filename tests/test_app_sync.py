@@ -6,22 +6,14 @@ import numpy as np
 import pytest
 
 from phonglab.app import sync
+from phonglab.bench.scenes import red_sphere
 from phonglab.render import SceneView
 from phonglab.render.glyphs import COLOR_ARRAY
-from phonglab.scene import Camera, Geometry, Scene
 
 
 @pytest.fixture(scope="module")
 def view():
-    import phonglab as pl
-
-    scene = Scene(
-        geometry=Geometry(kind="sphere", resolution=32),
-        material=pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40.0),
-        lights=(pl.AmbientLight(intensity=0.2), pl.PointLight(position=(2.0, 2.5, 3.0))),
-        camera=Camera(),
-    )
-    v = SceneView(scene, size=(200, 150), labels=False, vtk_text=False)
+    v = SceneView(red_sphere(32), size=(200, 150), labels=False, vtk_text=False)
     yield v
     v.close()
 

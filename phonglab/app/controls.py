@@ -1,14 +1,7 @@
-"""The page's controls: which widget edits which scene field, and how.
+"""The page's controls: which widgets a scene gets, and which scene field each one edits.
 
-A :class:`Control` reads its widget's value from a scene (:meth:`Control.read`)
-and writes a widget value back into a new scene (:meth:`Control.apply`). Every
-value that arrives from the browser goes through :meth:`Control.apply`, which
-checks its type and range first and then lets the scene check the result
-(:meth:`phonglab.scene.Scene.replace`), so a refused value raises
-:class:`ControlError` naming the control, the value and what is allowed, and
-the previous scene stays.
-
-Most controls edit a scene field directly (``material.shininess``,
+Each widget is a :class:`~phonglab.app.control.Control` (its checks and how a
+value is written are in :mod:`phonglab.app.control`). Most controls edit a scene field directly (``material.shininess``,
 ``lights[1].attenuation[0]``, ``model``). A few present a field the way a
 student thinks of it and are named like fields (see :mod:`phonglab.app.keys`):
 
@@ -29,43 +22,22 @@ student thinks of it and are named like fields (see :mod:`phonglab.app.keys`):
 Besides the widgets, :func:`field_mirrors` gives a state key per scene field
 (``material__ks``, ``lights_1__position``) holding the field's value in its
 file form; a value written there is checked like any other.
+
+A tab keeps its controls in a :class:`ControlSet`: built once for a lesson and
+again only when their set changes (a light of another type), read for every
+new scene.
 """
 
 from __future__ import annotations
 
 import copy
 import math
-import numbers
 import re
-from dataclasses import dataclass, field
-from typing import Any, Callable
+from dataclasses import dataclass
 
 from phonglab import core
-from phonglab.app.keys import state_key
-from phonglab.scene import SceneError
-from phonglab.scene import field_value as _scene_field_value
-from phonglab.scene.fieldpath import parse_path, scene_to_dict
-
-#: the last scene read and its file form (reading every widget reuses one dict)
-_last_dict: list = [None, None]
-
-
-def field_value(scene, path: str):
-    """The value at ``path`` in the scene's file form, as :func:`phonglab.scene.field_value`.
-
-    Simple paths (names and indices that exist) are read from one cached
-    dictionary per scene; anything else goes to the scene layer, which also
-    produces its errors.
-    """
-    if _last_dict[0] is not scene:
-        _last_dict[0], _last_dict[1] = scene, scene_to_dict(scene)
-    node = _last_dict[1]
-    try:
-        for part in parse_path(path):
-            node = node[part]
-    except (KeyError, IndexError, TypeError, SceneError):
-        return _scene_field_value(scene, path)
-    return copy.deepcopy(node) if isinstance(node, (dict, list)) else node
+from phonglab.app.control import Control, ControlError, hex_to_rgb, rgb_to_hex, split_level
+from phonglab.scene import PARAMETRIC_KINDS, SceneError, field_value, parse_path, scene_to_dict
 
 #: term view choices: value shown by the view -> label
 TERMS = (("color", "All terms"), ("ambient", "Ambient"), ("diffuse", "Diffuse"), ("specular", "Specular"))
@@ -75,199 +47,6 @@ MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"))
 INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)"), ("pixel", "Per pixel"))
 #: the shininess slider spans α = 10**0 .. 10**3
 SHININESS_LOG_RANGE = (0.0, 3.0)
-
-_HEX = re.compile(r"#[0-9a-fA-F]{6}")
-
-
-class ControlError(ValueError):
-    """A browser value was refused; the message says which control, the value and what is allowed."""
-
-
-@dataclass(frozen=True)
-class Control:
-    """One widget on the page and the scene field behind it.
-
-    Attributes
-    ----------
-    path : str
-        The field path the widget edits (a scene field or one of the
-        presentation fields listed in the module docstring).
-    label : str
-        The widget's label; may hold ``$...$`` maths.
-    kind : str
-        ``"slider"``, ``"color"``, ``"select"``, ``"switch"``, or ``"value"``
-        (no widget: the state key mirrors a scene field in its file form).
-    low, high, step : float
-        Slider range and step (in widget units: ``log10 α`` for shininess).
-    items : tuple of (value, title)
-        Choices of a select.
-    read : callable
-        ``read(scene, view_options) -> widget value``.
-    write : callable
-        ``write(scene, widget value, view_options) -> (scene, view_options)``;
-        the value has passed the type and range checks already.
-    unit : str
-        Shown after a slider's value ("°").
-    fmt : str
-        How the widget value is shown; ``"alpha"`` shows ``10**value``.
-    """
-
-    path: str
-    label: str
-    kind: str
-    read: Callable
-    write: Callable
-    low: float = 0.0
-    high: float = 1.0
-    step: float = 0.01
-    items: tuple = ()
-    unit: str = ""
-    fmt: str = "{:.2f}"
-    group: str = ""
-
-    @property
-    def key(self) -> str:
-        """The trame state key (:func:`phonglab.app.keys.state_key`)."""
-        return state_key(self.path)
-
-    def check(self, value):
-        """The browser value as the widget's type, or :class:`ControlError`."""
-        if self.kind == "slider":
-            if not isinstance(value, numbers.Real) or isinstance(value, bool):
-                raise ControlError(f"{self.path}: must be a number, got {_show(value)}")
-            value = float(value)
-            if not math.isfinite(value):
-                raise ControlError(f"{self.path}: must be a finite number, got {_show(value)}")
-            slack = 1e-9 * max(1.0, abs(self.high - self.low))
-            if not (self.low - slack <= value <= self.high + slack):
-                raise ControlError(
-                    f"{self.path}: must be between {self.low:g} and {self.high:g}, got {_show(value)}"
-                )
-            return min(max(value, self.low), self.high)
-        if self.kind == "switch":
-            if not isinstance(value, bool):
-                raise ControlError(f"{self.path}: must be true or false, got {_show(value)}")
-            return value
-        if self.kind == "select":
-            allowed = [v for v, _ in self.items]
-            if not isinstance(value, str) or value not in allowed:
-                raise ControlError(f"{self.path}: must be one of {', '.join(allowed)}, got {_show(value)}")
-            return value
-        if self.kind == "value":
-            return _check_plain(self.path, value)
-        if self.kind == "color":
-            if not isinstance(value, str) or not _HEX.fullmatch(value.strip()):
-                raise ControlError(f"{self.path}: must be a colour #rrggbb, got {_show(value)}")
-            return value.strip().lower()
-        raise AssertionError(self.kind)
-
-    def apply(self, scene, value, options: dict):
-        """Check ``value`` and return ``(new scene, new view options)``.
-
-        Raises
-        ------
-        ControlError
-            The value's type or range is wrong, or the scene refuses the result.
-        """
-        value = self.check(value)
-        try:
-            return self.write(scene, value, dict(options))
-        except SceneError as exc:
-            raise ControlError(f"{self.path}: {_scene_reason(exc, self.path)}") from None
-        except (ValueError, TypeError, ArithmeticError) as exc:  # core validation
-            raise ControlError(f"{self.path}: {exc}") from None
-
-    def same(self, a, b) -> bool:
-        """Whether two widget values mean the same setting (sliders: within half a step)."""
-        if self.kind == "slider":
-            try:
-                return abs(float(a) - float(b)) <= 0.5 * self.step
-            except (TypeError, ValueError):
-                return False
-        return a == b
-
-    def describe(self, scene, options) -> dict:
-        """The widget as plain data for the page template."""
-        spec = {
-            "key": self.key,
-            "path": self.path,
-            "label": self.label,
-            "kind": self.kind,
-            "low": self.low,
-            "high": self.high,
-            "step": self.step,
-            "items": [{"value": v, "title": t} for v, t in self.items],
-            "unit": self.unit,
-            "fmt": self.fmt,
-            "group": self.group,
-        }
-        return spec
-
-
-def _check_plain(path, value, depth=0):
-    """A file-form value (number, bool, string, list of those); ControlError otherwise.
-
-    The scene checks the meaning; this only keeps odd objects out.
-    """
-    if isinstance(value, (bool, str)) or (isinstance(value, numbers.Real)):
-        if isinstance(value, str) and len(value) > 200:
-            raise ControlError(f"{path}: text too long ({len(value)} characters)")
-        return value
-    if isinstance(value, (list, tuple)) and depth == 0 and len(value) <= 4:
-        return [_check_plain(path, v, 1) for v in value]
-    if value is None and path == "probe":
-        return None
-    raise ControlError(f"{path}: must be a number, true/false, a text or a short list, got {_show(value)}")
-
-
-def _show(value) -> str:
-    if isinstance(value, str):
-        return repr(value[:60])
-    if isinstance(value, float) and math.isnan(value):
-        return "NaN"
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _scene_reason(exc: SceneError, path: str = "") -> str:
-    """The part of a SceneError that helps a student: problem, value, hint.
-
-    The error's field is left out when it is the control's own (or contains it).
-    """
-    errors = getattr(exc, "errors", None) or [exc]
-    parts = []
-    for e in errors:
-        text = e.problem
-        if e.field and not (path.startswith(e.field) or e.field.startswith(path)):
-            text = f"{e.field}: {text}"
-        if e.has_value:
-            text += f", got {_show(e.value)}"
-        if e.hint:
-            text += f"; {e.hint}"
-        parts.append(text)
-    return "; ".join(parts)
-
-
-# ---------------------------------------------------------------------------
-# colour helpers
-
-
-def rgb_to_hex(rgb) -> str:
-    """``(r, g, b)`` in [0, 1] (clipped) as ``#rrggbb``."""
-    return "#" + "".join(f"{int(round(min(max(c, 0.0), 1.0) * 255)):02x}" for c in rgb)
-
-
-def hex_to_rgb(text: str) -> tuple[float, float, float]:
-    """``#rrggbb`` as three floats in [0, 1]."""
-    return tuple(int(text[i : i + 2], 16) / 255.0 for i in (1, 3, 5))
-
-
-def split_level(rgb) -> tuple[float, tuple[float, float, float]]:
-    """An RGB coefficient as (level, hue): level = largest channel, hue = rgb / level."""
-    level = max(rgb)
-    if level <= 0:
-        return 0.0, (1.0, 1.0, 1.0)
-    return level, tuple(c / level for c in rgb)
 
 
 # ---------------------------------------------------------------------------
@@ -296,11 +75,11 @@ def _retype_light(scene, index, kind, frame):
 # building the controls of a scene
 
 
-def _field(path, label, kind, **kwargs) -> Control:
-    """A control bound straight to a scene field."""
+def _field(path, label, kind, read_field=field_value, **kwargs) -> Control:
+    """A control bound straight to a scene field, read with ``read_field(scene, path)``."""
 
     def read(scene, options):
-        return field_value(scene, path)
+        return read_field(scene, path)
 
     def write(scene, value, options):
         return scene.replace(path, value), options
@@ -350,7 +129,7 @@ def _shininess(group: str) -> Control:
                    low=low, high=high, step=0.01, fmt="alpha", group=group)
 
 
-def _light_controls(scene, index: int, frame: Frame) -> list[Control]:
+def _light_controls(scene, index: int, frame: Frame, read_field) -> list[Control]:
     light = scene.lights[index]
     base = f"lights[{index}]"
     group = f"Light {index} ({_light_kind(light)})"
@@ -399,11 +178,12 @@ def _light_controls(scene, index: int, frame: Frame) -> list[Control]:
             group=group,
         )
     )
-    controls.append(_field(f"{base}.intensity", "intensity", "slider", low=0.0, high=2.0, step=0.01, group=group))
+    controls.append(_field(f"{base}.intensity", "intensity", "slider", read_field, low=0.0, high=2.0, step=0.01,
+                           group=group))
     if isinstance(light, core.PointLight):  # point and spot
         for i, (name, high, step) in enumerate((("a (constant)", 2.0, 0.01), ("b (linear)", 1.0, 0.01),
                                                  ("c (quadratic)", 0.5, 0.005))):
-            controls.append(_field(f"{base}.attenuation[{i}]", f"attenuation {name}", "slider",
+            controls.append(_field(f"{base}.attenuation[{i}]", f"attenuation {name}", "slider", read_field,
                                    low=0.0, high=high, step=step, fmt="{:.3f}", group=group))
     if isinstance(light, core.SpotLight):
         def cutoff_read(scene, options, index=index):
@@ -427,7 +207,7 @@ def _light_controls(scene, index: int, frame: Frame) -> list[Control]:
                                 group=group))
         controls.append(Control(path=f"{base}.no_cone", label="no cone (cutoff 180°: a point light)",
                                 kind="switch", read=cone_read, write=cone_write, group=group))
-        controls.append(_field(f"{base}.exponent", "spot exponent", "slider", low=0.0, high=128.0, step=0.5,
+        controls.append(_field(f"{base}.exponent", "spot exponent", "slider", read_field, low=0.0, high=128.0, step=0.5,
                                fmt="{:.1f}", group=group))
     return controls
 
@@ -462,9 +242,7 @@ def _eye_controls(frame: Frame) -> list[Control]:
     return controls
 
 
-def _geometry_controls(scene) -> list[Control]:
-    from phonglab.scene import PARAMETRIC_KINDS
-
+def _geometry_controls(scene, read_field) -> list[Control]:
     if scene.geometry.kind not in PARAMETRIC_KINDS:
         return []
 
@@ -475,17 +253,19 @@ def _geometry_controls(scene) -> list[Control]:
         return scene.replace("geometry.resolution", int(round(value))), options
 
     return [
-        _field("geometry.kind", "shape", "select", items=tuple((k, k.capitalize()) for k in PARAMETRIC_KINDS),
+        _field("geometry.kind", "shape", "select", read_field, items=tuple((k, k.capitalize()) for k in PARAMETRIC_KINDS),
                group="Shape"),
         Control(path="geometry.resolution", label="resolution (segments around)", kind="slider", read=read,
                 write=write, low=4.0, high=256.0, step=1.0, fmt="{:.0f}", group="Shape"),
     ]
 
 
-def scene_controls(scene, frame: Frame | None = None) -> list[Control]:
+def scene_controls(scene, frame: Frame | None = None, *, read_field=field_value) -> list[Control]:
     """Every control for ``scene``, grouped: material, lights, eye, shape, shading, view.
 
-    ``frame`` sets the axes of azimuth and elevation (default: the scene camera's).
+    ``frame`` sets the axes of azimuth and elevation (default: the scene camera's);
+    ``read_field(scene, path)`` reads a field's file form (default:
+    :func:`phonglab.scene.field_value`).
     """
     frame = frame or Frame.of_camera(scene.camera)
     controls = []
@@ -493,18 +273,18 @@ def scene_controls(scene, frame: Frame | None = None) -> list[Control]:
         controls += _coefficient(name, symbol, "Material")
     controls.append(_shininess("Material"))
     for index in range(len(scene.lights)):
-        controls += _light_controls(scene, index, frame)
+        controls += _light_controls(scene, index, frame, read_field)
     controls += _eye_controls(frame)
-    controls += _geometry_controls(scene)
-    controls.append(_field("model", "model", "select", items=MODELS, group="Shading"))
-    controls.append(_field("interpolation", "interpolation", "select", items=INTERPOLATIONS, group="Shading"))
-    controls.append(_field("two_sided", "two-sided lighting", "switch", group="Shading"))
-    controls.append(_field("camera.infinite_viewer", "infinite viewer", "switch", group="Shading"))
+    controls += _geometry_controls(scene, read_field)
+    controls.append(_field("model", "model", "select", read_field, items=MODELS, group="Shading"))
+    controls.append(_field("interpolation", "interpolation", "select", read_field, items=INTERPOLATIONS,
+                           group="Shading"))
+    controls.append(_field("two_sided", "two-sided lighting", "switch", read_field, group="Shading"))
+    controls.append(_field("camera.infinite_viewer", "infinite viewer", "switch", read_field, group="Shading"))
     controls.append(_term())
     return controls
 
 
-#: a lesson's control path -> the paths of the widgets that edit it
 def widgets_for(path: str) -> tuple[str, ...]:
     """The control paths a lesson's ``controls`` entry stands for.
 
@@ -546,7 +326,7 @@ def lesson_controls(controls: list[Control], paths) -> list[Control]:
     return chosen
 
 
-def field_mirrors(scene) -> list[Control]:
+def field_mirrors(scene, *, read_field=field_value) -> list[Control]:
     """A value control per editable scene field: the field's file form under its own key.
 
     Where a widget edits the same key (``model``, ``lights[1].cutoff``), the
@@ -563,19 +343,107 @@ def field_mirrors(scene) -> list[Control]:
             paths += [f"{base}.position", f"{base}.attenuation"]
             if isinstance(light, core.SpotLight):
                 paths += [f"{base}.direction", f"{base}.cutoff", f"{base}.exponent"]
-    return [_field(path, path, "value", group="fields") for path in paths]
+    return [_field(path, path, "value", read_field, group="fields") for path in paths]
 
 
-def controls_by_key(scene, frame: Frame | None = None) -> dict:
-    """State key -> control for every widget and field mirror of ``scene`` (widgets win)."""
-    out = {c.key: c for c in field_mirrors(scene)}
-    out.update({c.key: c for c in scene_controls(scene, frame)})
+def controls_by_key(scene, frame: Frame | None = None, *, read_field=field_value,
+                    widgets: list[Control] | None = None) -> dict:
+    """State key -> control for every widget and field mirror of ``scene`` (widgets win).
+
+    ``widgets`` are the scene's widgets when already built by :func:`scene_controls`.
+    """
+    out = {c.key: c for c in field_mirrors(scene, read_field=read_field)}
+    if widgets is None:
+        widgets = scene_controls(scene, frame, read_field=read_field)
+    out.update({c.key: c for c in widgets})
     return out
 
 
-def format_value(control: Control, value) -> str:
-    """A slider value as the page shows it (α for the log slider)."""
-    if control.fmt == "alpha":
-        alpha = 10.0**value
-        return f"{alpha:.0f}" if alpha >= 10 else f"{alpha:.2f}"
-    return control.fmt.format(value) + control.unit
+#: the switch that shows a lesson's common mistake in the view (a view option, not a scene field)
+MISTAKE_SWITCH = Control(
+    path="view.mistake",
+    label="show the mistake",
+    kind="switch",
+    read=lambda scene, options: bool(options.get("mistake", False)),
+    write=lambda scene, value, options: (scene, {**options, "mistake": value}),
+    group="View",
+)
+
+
+def controls_shape(scene) -> tuple:
+    """What decides which controls a scene gets: its light types and whether its shape is parametric."""
+    return tuple(_light_kind(light) for light in scene.lights), scene.geometry.kind in PARAMETRIC_KINDS
+
+
+class ControlSet:
+    """The controls of one tab's lesson: built when their set changes, read for every new scene.
+
+    Parameters
+    ----------
+    frame : Frame
+        The axes of azimuth and elevation (from the lesson's camera).
+    lesson_paths : sequence of str
+        The lesson's ``controls``: the widgets it shows first (:func:`lesson_controls`).
+    extra : dict
+        State key -> control for controls the scene does not decide (the
+        mistake switch).
+
+    Attributes
+    ----------
+    widgets : list of Control
+        Every widget, in page order.
+    chosen : list of Control
+        The lesson's widgets, in its order.
+    by_key : dict
+        State key -> control, for widgets, field mirrors and ``extra``.
+
+    Notes
+    -----
+    Reading the widgets of a scene reads many fields of its file form; the set
+    makes that form once per scene (and only for this tab).
+    """
+
+    def __init__(self, frame: Frame, lesson_paths=(), extra: dict | None = None):
+        self.frame = frame
+        self.lesson_paths = tuple(lesson_paths)
+        self.extra = dict(extra or {})
+        self.widgets: list[Control] = []
+        self.chosen: list[Control] = []
+        self.by_key: dict = dict(self.extra)
+        self._shape = None
+        self._form = (None, None)  # (scene, its file form)
+
+    def update(self, scene) -> bool:
+        """Make the set fit ``scene``; True when it was (re)built, False when it already fitted."""
+        shape = controls_shape(scene)
+        if shape == self._shape:
+            return False
+        self.widgets = scene_controls(scene, self.frame, read_field=self.read_field)
+        self.chosen = lesson_controls(self.widgets, self.lesson_paths)
+        self.by_key = controls_by_key(scene, read_field=self.read_field, widgets=self.widgets)
+        self.by_key.update(self.extra)
+        self._shape = shape
+        return True
+
+    def values(self, scene, options: dict) -> dict:
+        """State key -> widget value of every control for ``scene``."""
+        return {key: control.read(scene, options) for key, control in self.by_key.items()}
+
+    def read_field(self, scene, path: str):
+        """The value at ``path`` in the scene's file form, as :func:`phonglab.scene.field_value`.
+
+        Simple paths (names and indices that exist) are read from the file
+        form of the last scene read; anything else goes to the scene layer,
+        which also produces its errors.
+        """
+        if self._form[0] is not scene:
+            self._form = (scene, scene_to_dict(scene))
+        node = self._form[1]
+        try:
+            for part in parse_path(path):
+                node = node[part]
+        except (KeyError, IndexError, TypeError, SceneError):
+            return field_value(scene, path)
+        return copy.deepcopy(node) if isinstance(node, (dict, list)) else node
+
+

@@ -29,29 +29,18 @@ import asyncio
 import base64
 import functools
 import io
-import json
 import logging
-import math
-import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 from trame.app import TrameApp
-from trame.ui.html import DivLayout
-from trame.ui.vuetify3 import VAppLayout
-from trame.widgets import client, html
-from trame.widgets import vtk as vtk_widgets
-from trame.widgets import vuetify3 as v3
 
-from phonglab import core
 from phonglab.app import controls as ctl
-from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
-from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
+from phonglab.app.control import ControlError, finite3, format_value
+from phonglab.app import page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
-from phonglab.app import sync, text
-from phonglab.app.client import MODULE, ColorPush, color_payload
+from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
 from phonglab.render import SceneView
@@ -60,8 +49,6 @@ from phonglab.scene.loader import lesson_files
 
 log = logging.getLogger(__name__)
 
-#: colours of the vector chips (N, L, R, V, H), matching the arrows in the view
-APP_TITLE = "phonglab"
 #: size of the server-side image in pixel mode (width, height)
 PIXEL_SIZE = (960, 720)
 #: largest side of the server's window (pixel mode image), in pixels
@@ -113,12 +100,11 @@ class LessonApp(TrameApp):
         self.scene = None
         self.options = {"term": "color"}
         self.view = None  # SceneView, created with the first good scene
-        self._controls = {}  # state key -> Control
-        self._watched = set()
+        self.controls = ctl.ControlSet(ctl.Frame())  # the open lesson's controls
+        self._watched = set()  # state keys with a change handler
         self._notice_serial = 0
         self._busy = False
         self._panels_handle = None
-        self._rebuild_pending = False
         self._view_ms = 0.0
         self._camera_moved = False
         self.state.trame__title = "phonglab — the Phong illumination model"
@@ -133,7 +119,15 @@ class LessonApp(TrameApp):
         if good:
             start = self.entries[first] if self.entries[first].ok else good[0]
             self.view = SceneView(start.scene, size=PIXEL_SIZE, labels=False, vtk_text=False)
-        self._build_ui()
+        window = self.view.render_window if self.view is not None else SceneView.empty_window()
+        self.ui, self.html_view = page.build_page(self.server, window, page.Handlers(
+            open_lesson=self._open_from_list,
+            reset_lesson=self.reset_lesson,
+            export_figure=self.export_figure,
+            apply_experiment=self.apply_experiment,
+            pick=self.on_pick,
+            camera=self.on_camera,
+        ))
         self.open_lesson(first)
 
     # ------------------------------------------------------------------
@@ -141,35 +135,11 @@ class LessonApp(TrameApp):
 
     def _init_state(self):
         s = self.state
-        s.drawer = False
+        s.update(page.initial_state())
         s.lessons = [
             {"index": i, "number": e.number, "title": e.title, "ok": e.ok, "problems": len(e.errors)}
             for i, e in enumerate(self.entries)
         ]
-        s.lesson_index = -1
-        s.lesson_title = ""
-        s.lesson_number = None
-        s.lesson_goal_html = ""
-        s.lesson_html = ""
-        s.lesson_errors = []
-        s.experiments = []
-        s.question_html = ""
-        s.answer_html = ""
-        s.show_answer = False
-        s.readout = None
-        s.plan_computed = []
-        s.plan_skipped = []
-        s.legend = []
-        s.notice = None
-        s.view_colors = None
-        s.pixel_src = ""
-        s.pixel_mode = False
-        s.control_values = {}
-        s.control_labels = {}
-        s.has_view = False
-        s.pick_target = "probe"
-        s.mistake = None
-        s.mistake_note = ""
 
     def notify(self, kind: str, message: str) -> None:
         """Show a message above the controls (kind: "error", "success", "info")."""
@@ -205,14 +175,17 @@ class LessonApp(TrameApp):
             s.question_html = s.answer_html = ""
             s.mistake, s.mistake_note = None, ""
             s.has_view = self.view is not None
-            self._controls = {}
-            self._build_controls([])
+            if self._panels_handle is not None:  # a refresh for the previous lesson's scene
+                self._panels_handle.cancel()
+                self._panels_handle = None
+            self.controls = ctl.ControlSet(ctl.Frame())
+            page.build_controls(self.server, [])
             self.accuracy.open(None, None)
             return
         s.lesson_errors = []
         lesson = entry.lesson
         s.lesson_goal_html = text.inline(lesson.goal) if lesson and lesson.goal else ""
-        s.lesson_html = text.render_markdown(_strip_title(lesson.body)) if lesson else ""
+        s.lesson_html = text.render_markdown(text.strip_title(lesson.body)) if lesson else ""
         s.experiments = [
             {"index": i, "label": text.inline(x.label), "text": text.inline(x.text) if x.text else ""}
             for i, x in enumerate(lesson.experiments)
@@ -220,6 +193,9 @@ class LessonApp(TrameApp):
         s.question_html = text.inline(lesson.question) if lesson and lesson.question else ""
         s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
         s.mistake = self._mistake_info()
+        extra = {"view__mistake": ctl.MISTAKE_SWITCH} if s.mistake and s.mistake.get("available") else {}
+        self.controls = ctl.ControlSet(ctl.Frame.of_camera(entry.scene.camera),
+                                       lesson.controls if lesson else (), extra)
         self.options = {"term": "color"}
         self.accuracy.open(entry, entry.scene)
         self._show_scene(entry.scene, new_lesson=True)
@@ -275,26 +251,23 @@ class LessonApp(TrameApp):
             if new_lesson or (old is not None and old.camera != scene.camera):
                 self.html_view.push_camera()
         self._refresh_pixels()
-        rebuild = new_lesson or old is None or _controls_shape(old) != _controls_shape(scene)
         try:
             loop = asyncio.get_running_loop() if defer_panels else None
         except RuntimeError:  # no server loop (scripts, tests): refresh at once
             loop = None
         if loop is not None:
-            self._rebuild_pending = self._rebuild_pending or rebuild
             if self._panels_handle is None:
                 self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
         else:
-            self._refresh_panels(rebuild_controls=rebuild)
+            self._refresh_panels()
 
     def _deferred_panels(self) -> None:
         """The refresh :meth:`_show_scene` put off; records the update's server time."""
         self._panels_handle = None
-        rebuild, self._rebuild_pending = self._rebuild_pending, False
         start = time.perf_counter()
         try:
             if self.scene is not None:
-                self._refresh_panels(rebuild_controls=rebuild)
+                self._refresh_panels()
                 self.state.flush()
         except Exception as exc:
             log.exception("refreshing the panels")
@@ -352,47 +325,44 @@ class LessonApp(TrameApp):
         Image.fromarray(image).save(buffer, format="PNG", compress_level=1)
         self.state.pixel_src = "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
-    def _refresh_panels(self, *, rebuild_controls: bool) -> None:
+    def _refresh_panels(self) -> None:
+        """The verdict, the readout, the accuracy panel and the controls, for the scene on screen."""
         scene = self.scene
         s = self.state
-        # planner verdict
+        # planner verdict, planned once and shared with the readout
         verdict = plan(scene)
         s.plan_computed = [{"effect": e, "reason": r} for e, r in verdict.computed]
         s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
         # probe readout and vector legend
         point, normal = self.view.probe
-        s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index)
+        s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
+                                  scene_plan=verdict)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
         self.accuracy.follow(scene)
-        # controls
-        frame = ctl.Frame.of_camera(self.entry.scene.camera)
-        all_controls = ctl.scene_controls(scene, frame=frame)
-        chosen = ctl.lesson_controls(all_controls, self.entry.lesson.controls) if self.entry.lesson else []
-        self._controls = ctl.controls_by_key(scene, frame)
-        if self.state.mistake and self.state.mistake.get("available"):
-            self._controls["view__mistake"] = _MISTAKE_SWITCH
+        # controls: drawn again only when their set changes; their values follow every scene
+        rebuilt = self.controls.update(scene)
         self._sync_control_values()
-        if rebuild_controls:
-            self.state.control_labels = {c.key: text.inline(c.label) for c in all_controls}
-            self._build_controls(chosen, all_controls)
-        for key in self._controls:
-            if key not in self._watched:
-                self._watched.add(key)
-                self.state.change(key)(self._watcher(key))
+        if rebuilt:
+            s.control_labels = {c.key: text.inline(c.label) for c in self.controls.widgets}
+            page.build_controls(self.server, self.controls.chosen, self.controls.widgets)
+            for key in self.controls.by_key:
+                if key not in self._watched:
+                    self._watched.add(key)
+                    s.change(key)(self._watcher(key))
 
     def _sync_control_values(self) -> None:
         """Write every control's value for the current scene into the state."""
-        values = {}
-        for key, control in self._controls.items():
-            value = control.read(self.scene, self.options)
+        shown = {}
+        for key, value in self.controls.values(self.scene, self.options).items():
+            control = self.controls.by_key[key]
             # never echo a browser's own value back with rounding noise: a slider
             # being dragged would jump back to an older position
             if not control.same(self.state[key], value):
                 self.state[key] = value
             if control.kind == "slider":
-                values[key] = ctl.format_value(control, value)
-        if values != self.state.control_values:
-            self.state.control_values = values
+                shown[key] = format_value(control, value)
+        if shown != self.state.control_values:
+            self.state.control_values = shown
 
     # ------------------------------------------------------------------
     # browser input
@@ -404,7 +374,7 @@ class LessonApp(TrameApp):
         return on_change
 
     def _on_control(self, key, value) -> None:
-        control = self._controls.get(key)
+        control = self.controls.by_key.get(key)
         if control is None or self.scene is None or self._busy:
             return
         try:
@@ -415,7 +385,7 @@ class LessonApp(TrameApp):
             self._busy = True
             try:
                 scene, options = control.apply(self.scene, value, self.options)
-            except ctl.ControlError as exc:
+            except ControlError as exc:
                 self.notify("error", f"Refused: {exc}. The previous value stays.")
                 self.state[key] = current
                 return
@@ -439,7 +409,7 @@ class LessonApp(TrameApp):
             ray = (event or {}).get("ray") if isinstance(event, dict) else None
             if not (isinstance(ray, list) and len(ray) == 2):
                 return
-            near, far = (_finite3(p) for p in ray)
+            near, far = (finite3(p) for p in ray)
             hit = self.view.ray_hit(near, far)
             if hit is None:
                 return
@@ -472,9 +442,9 @@ class LessonApp(TrameApp):
             if not isinstance(camera, dict):
                 return
             self.view.set_camera(
-                eye=_finite3(camera.get("position")),
-                focal_point=_finite3(camera.get("focalPoint")),
-                up=_finite3(camera.get("viewUp")),
+                eye=finite3(camera.get("position")),
+                focal_point=finite3(camera.get("focalPoint")),
+                up=finite3(camera.get("viewUp")),
                 view_angle=float(camera.get("viewAngle", self.scene.camera.view_angle)),
             )
             self._camera_moved = True
@@ -515,253 +485,10 @@ class LessonApp(TrameApp):
             log.exception("export")
             self.notify("error", f"Export failed: {exc}")
 
-    # ------------------------------------------------------------------
-    # page
-
-    def _build_ui(self):
-        with VAppLayout(self.server, full_height=True) as self.ui:
-            self.ui.root.classes = "phonglab"
-            with v3.VAppBar(density="compact", elevation=1, classes="phonglab-bar"):
-                v3.VAppBarNavIcon(click="drawer = !drawer", classes="phonglab-menu")
-                html.Div("phonglab", classes="phonglab-brand")
-                html.Div(
-                    "{{ lesson_number != null ? lesson_number + ' · ' : '' }}{{ lesson_title }}",
-                    classes="phonglab-lesson-title",
-                )
-                v3.VSpacer()
-                v3.VBtn("Reset", prepend_icon="mdi-restore", variant="text", click=self.reset_lesson,
-                        disabled=("lesson_errors.length > 0",), classes="phonglab-reset")
-                v3.VBtn("Export PNG", prepend_icon="mdi-image-outline", variant="tonal", color="primary",
-                        click=self.export_figure, disabled=("lesson_errors.length > 0",),
-                        classes="phonglab-export ml-2 mr-2")
-            with v3.VNavigationDrawer(v_model=("drawer",), temporary=True, width=300, classes="phonglab-drawer"):
-                v3.VListSubheader("Lessons")
-                with v3.VList(density="compact", nav=True):
-                    with v3.VListItem(
-                        v_for="item in lessons",
-                        key="item.index",
-                        active=("item.index === lesson_index",),
-                        click=(self._open_from_list, "[item.index]"),
-                        classes="phonglab-lesson-item",
-                    ):
-                        with v3.Template(v_slot_prepend=True):
-                            html.Span("{{ item.number != null ? item.number : '·' }}", classes="phonglab-num")
-                        v3.VListItemTitle("{{ item.title }}")
-                        with v3.Template(v_slot_append=True):
-                            v3.VIcon("mdi-alert-circle-outline", color="error", v_if="!item.ok", size="small")
-            with v3.VMain(classes="phonglab-main"):
-                with html.Div(classes="phonglab-grid"):
-                    self._lesson_column()
-                    self._view_column()
-                    self._control_column()
-
     def _open_from_list(self, index=None, *_, **__):
+        """A lesson picked in the list: close the list and open it."""
         self.state.drawer = False
         self.open_lesson(index)
-
-    def _lesson_column(self):
-        with html.Div(classes="phonglab-text"):
-            with html.Div(v_if="lesson_errors.length", classes="phonglab-errors"):
-                html.H2("This lesson file has problems")
-                html.P("Fix them in the file and reload the page. phonglab check lists them too.")
-                with html.Ul():
-                    html.Li("{{ e }}", v_for="(e, i) in lesson_errors", key="i", classes="phonglab-error")
-            with html.Div(v_else=True):
-                html.H1("{{ lesson_title }}", classes="phonglab-h1")
-                html.Div(v_if="lesson_goal_html", v_html=("'<b>Goal.</b> ' + lesson_goal_html",),
-                         classes="phonglab-goal")
-                html.Div(v_html=("lesson_html",), classes="phonglab-body")
-                with html.Div(v_if="experiments.length", classes="phonglab-experiments"):
-                    html.H3("Experiments")
-                    with v3.VCard(v_for="x in experiments", key="x.index", variant="outlined",
-                                  classes="phonglab-experiment mb-2"):
-                        with v3.VCardText(classes="d-flex align-center"):
-                            with html.Div(classes="flex-grow-1 pr-2"):
-                                html.Div(v_html=("x.label",), classes="font-weight-medium")
-                                html.Div(v_if="x.text", v_html=("x.text",), classes="text-body-2")
-                            v3.VBtn("Apply", size="small", color="primary", variant="flat",
-                                    click=(self.apply_experiment, "[x.index]"), classes="phonglab-apply")
-                with html.Div(v_if="mistake", classes="phonglab-mistake"):
-                    html.H3("A common mistake: {{ mistake.title }}")
-                    html.P("{{ mistake.looks_like }}")
-                    with html.Div(classes="phonglab-code"):
-                        html.Div("wrong", classes="phonglab-code-tag phonglab-code-wrong")
-                        html.Code("{{ mistake.wrong }}")
-                        html.Div("right", classes="phonglab-code-tag phonglab-code-right")
-                        html.Code("{{ mistake.right }}")
-                    v3.VSwitch(v_model=("view__mistake", False), v_if="mistake.available", color="error",
-                               label="Show the mistake in the picture", density="compact", hide_details=True,
-                               classes="phonglab-mistake-switch")
-                    html.P("{{ mistake_note }}", v_if="mistake_note", classes="phonglab-note phonglab-mistake-note")
-                with html.Div(v_if="question_html", classes="phonglab-question"):
-                    html.H3("Check yourself")
-                    html.Div(v_html=("question_html",))
-                    v3.VBtn("{{ show_answer ? 'Hide answer' : 'Show answer' }}", size="small", variant="text",
-                            color="primary", click="show_answer = !show_answer", classes="phonglab-answer-btn px-0")
-                    html.Div(v_if="show_answer", v_html=("answer_html",), classes="phonglab-answer")
-
-    def _view_column(self):
-        with html.Div(classes="phonglab-centre"):
-            with html.Div(classes="phonglab-view"):
-                with vtk_widgets.VtkLocalView(
-                    self.view.render_window if self.view is not None else SceneView.empty_window(),
-                    ref="phonglab_view",
-                    picking_modes=("['click']",),
-                    click=(self.on_pick, "[$event]"),
-                    interactor_settings=("view_interaction", _INTERACTION),
-                    interactor_events=("['EndAnimation']",),
-                    EndAnimation=(self.on_camera, "[trame.refs.phonglab_view.getCamera()]"),
-                ) as self.html_view:
-                    ColorPush(push=("view_colors",))
-                client.SizeObserver("view_size")
-                with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
-                    html.Img(src=("pixel_src",), alt="per-pixel shading by the core")
-                with html.Div(classes="phonglab-legend", v_if="legend.length"):
-                    with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
-                                   title=("v.meaning",)):
-                        html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
-                        html.B("{{ v.letter }}")
-                with html.Div(classes="phonglab-tools", v_if="!lesson_errors.length"):
-                    with v3.VBtnToggle(v_model=("view__term",), mandatory=True, density="compact",
-                                       variant="outlined", divided=True, classes="phonglab-term-toggle"):
-                        for value, title in ctl.TERMS:
-                            v3.VBtn(title.replace(" terms", ""), value=value, size="small",
-                                    classes=f"phonglab-term-{value}")
-                    with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
-                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
-                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
-                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
-                html.Div(
-                    "{{ pixel_mode ? 'Per-pixel shading by the core · click to pick · turn the view and it follows' : "
-                    "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
-                    "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
-                    classes="phonglab-hint",
-                )
-            self._accuracy_panel()
-            self._readout_panel()
-
-    def _accuracy_panel(self):
-        """The accuracy lesson's panel: the error images for a picked method and mesh, and the plot."""
-        with html.Div(classes="phonglab-accuracy", v_if="accuracy"):
-            with html.Div(classes="phonglab-accuracy-head"):
-                html.Span("Error against the exact sphere", classes="phonglab-section")
-                with v3.VBtnToggle(v_model=("accuracy_method",), mandatory=True, density="compact",
-                                   variant="outlined", divided=True, classes="phonglab-accuracy-method"):
-                    for value, title in ACCURACY_METHODS:
-                        v3.VBtn(title, value=value, size="small", classes=f"phonglab-accuracy-method-{value}")
-                with v3.VBtnToggle(v_model=("accuracy_resolution",), mandatory=True, density="compact",
-                                   variant="outlined", divided=True, classes="phonglab-accuracy-resolution"):
-                    for value in ACCURACY_RESOLUTIONS:
-                        v3.VBtn(str(value), value=(str(value),), size="small",  # bound: a number, not a string
-                                classes=f"phonglab-accuracy-resolution-{value}")
-                html.Span("segments", classes="phonglab-note")
-            v3.VProgressLinear(indeterminate=True, v_if="accuracy_busy", color="primary", height=2,
-                               classes="phonglab-accuracy-busy")
-            html.Div("Measuring… (the first picture takes a few seconds)", v_if="!accuracy_view",
-                     classes="phonglab-note phonglab-accuracy-wait")
-            with html.Div(v_else=True, classes="phonglab-accuracy-images"):
-                for key, caption in (
-                    ("render", "'render: ' + accuracy_view.method + ', ' + accuracy_view.resolution + ' segments'"),
-                    ("reference", "'exact sphere'"),
-                    ("error", "'error |render \u2212 exact|, α = ' + accuracy_view.shininess"),
-                ):
-                    with html.Figure(classes=f"phonglab-accuracy-figure phonglab-accuracy-{key}"):
-                        html.Img(src=(f"accuracy_view.{key}",), alt=key)
-                        html.Figcaption(f"{{{{ {caption} }}}}")
-                with html.Div(classes="phonglab-accuracy-scale"):
-                    html.Img(src=("accuracy_view.scale",), alt="error colour scale")
-                    with html.Div(classes="phonglab-accuracy-ticks"):
-                        html.Span("{{ t }}", v_for="(t, i) in accuracy_view.scale_labels", key="i")
-                with html.Div(classes="phonglab-accuracy-figures"):
-                    with html.Div(v_for="f in accuracy_view.figures", key="f.name", title=("f.title",),
-                                  classes="phonglab-accuracy-number"):
-                        html.Span("{{ f.name }}", classes="phonglab-term-name")
-                        html.Span("{{ f.value }}", classes="phonglab-mono",
-                                  data_figure=("f.name",), __properties=[("data_figure", "data-figure")])
-            html.Div("What accuracy costs in time (quick run of phonglab bench accuracy)",
-                     classes="phonglab-section mt-3")
-            with html.Div(v_if="accuracy_plot.status === 'measuring'", classes="phonglab-accuracy-measuring"):
-                v3.VProgressCircular(indeterminate=True, size=18, width=2, color="primary")
-                html.Span("measuring… the four studies take about five seconds", classes="phonglab-note")
-            html.Div("Could not measure: {{ accuracy_plot.error }}", v_if="accuracy_plot.status === 'failed'",
-                     classes="phonglab-note phonglab-accuracy-failed")
-            html.Img(v_if="accuracy_plot.status === 'ready'", src=("accuracy_plot.src",),
-                     alt="error against time for the four studies", title="click to enlarge",
-                     click="accuracy_zoom = true", classes="phonglab-accuracy-plot")
-            with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw"):
-                with v3.VCard(click="accuracy_zoom = false"):
-                    html.Img(src=("accuracy_plot.src",), classes="phonglab-accuracy-plot-large")
-
-    def _readout_panel(self):
-        with html.Div(classes="phonglab-readout", v_if="readout && !accuracy"):
-            with html.Div(classes="phonglab-readout-head"):
-                html.Span("At the probe", classes="phonglab-section")
-                html.Span("{{ readout.point }}", classes="phonglab-mono phonglab-point")
-            with html.Div(classes="phonglab-dots"):
-                with html.Div(v_for="d in readout.dots", key="d.name", classes="phonglab-dot"):
-                    html.Span(v_html=("d.tex",))
-                    html.Span("=", classes="phonglab-eq")
-                    html.Span("{{ d.value }}", classes="phonglab-mono phonglab-dot-value",
-                              data_name=("d.name",), __properties=[("data_name", "data-name")])
-            with html.Div(classes="phonglab-terms"):
-                with html.Div(v_for="t in readout.terms", key="t.name", classes="phonglab-term",
-                              title="RGB, before clipping to the screen's 0..1"):
-                    html.Span("", classes="phonglab-swatch", style=("{background: t.hex}",))
-                    html.Span("{{ t.name }}", classes="phonglab-term-name")
-                    html.Span("{{ t.value }}", classes="phonglab-mono",
-                              data_term=("t.name",), __properties=[("data_term", "data-term")])
-            html.Div(v_html=("readout.equation",), classes="phonglab-equation")
-            html.Div("{{ n }}", v_for="(n, i) in readout.notes", key="i", classes="phonglab-note")
-
-    def _control_column(self):
-        with html.Div(classes="phonglab-side"):
-            with v3.VAlert(
-                v_if="notice",
-                type=("notice.kind",),
-                variant="tonal",
-                density="compact",
-                closable=True,
-                classes="phonglab-notice mb-3",
-                click_close="notice = null",
-            ):
-                html.Span("{{ notice.text }}")
-            client.ServerTemplate(name="phonglab_controls")
-            with html.Div(classes="phonglab-plan", v_if="!lesson_errors.length"):
-                html.Div("What the planner computes", classes="phonglab-section")
-                with html.Div(v_for="p in plan_computed", key="p.effect", classes="phonglab-plan-row"):
-                    v3.VIcon("mdi-check-circle", color="success", size="small")
-                    html.B("{{ p.effect }}")
-                    html.Span("{{ p.reason }}", classes="phonglab-plan-reason")
-                with html.Div(v_for="p in plan_skipped", key="p.effect",
-                              classes="phonglab-plan-row phonglab-plan-skipped"):
-                    v3.VIcon("mdi-minus-circle-outline", color="grey", size="small")
-                    html.B("{{ p.effect }}")
-                    html.Span("{{ p.reason }}", classes="phonglab-plan-reason")
-
-    def _build_controls(self, chosen, all_controls=()):
-        """The controls panel: the lesson's controls, then every control by group."""
-        with DivLayout(self.server, template_name="phonglab_controls") as layout:
-            layout.root.classes = "phonglab-controls"
-            if chosen:
-                html.Div("This lesson", classes="phonglab-section")
-                group = None
-                for control in chosen:
-                    if control.group != group and control.group not in ("Material", "Shading", "View"):
-                        html.Div(control.group, classes="phonglab-subsection")
-                    group = control.group
-                    _widget(control)
-            if all_controls:
-                with v3.VExpansionPanels(variant="accordion", classes="phonglab-all mt-3", multiple=True):
-                    groups = []
-                    for control in all_controls:
-                        if control.group not in groups:
-                            groups.append(control.group)
-                    for group in groups:
-                        with v3.VExpansionPanel(title=group, classes="phonglab-group"):
-                            with v3.VExpansionPanelText():
-                                for control in all_controls:
-                                    if control.group == group:
-                                        _widget(control, suffix="all")
 
     def close(self) -> None:
         """Release the view's OpenGL resources and this session's trame registrations."""
@@ -783,96 +510,7 @@ class LessonApp(TrameApp):
         trame_vtk_module.HELPERS_PER_SERVER.pop(self.server.name, None)
 
 
-_MISTAKE_SWITCH = ctl.Control(
-    path="view.mistake",
-    label="show the mistake",
-    kind="switch",
-    read=lambda scene, options: bool(options.get("mistake", False)),
-    write=lambda scene, value, options: (scene, {**options, "mistake": value}),
-    group="View",
-)
-
-#: mouse: left turns, shift-left pans, wheel zooms; a plain click picks
-_INTERACTION = [
-    {"button": 1, "action": "Rotate"},
-    {"button": 2, "action": "Pan"},
-    {"button": 3, "action": "Zoom", "scrollEnabled": True},
-    {"button": 1, "action": "Pan", "shift": True},
-    {"button": 1, "action": "Zoom", "control": True},
-]
-
-
-def _widget(control: ctl.Control, suffix: str = "") -> None:
-    """One control's widget, bound to its state key."""
-    css = f"phonglab-control phonglab-control-{control.key}" + (f" phonglab-control-{suffix}" if suffix else "")
-    key = control.key
-    label = f"control_labels['{key}']"
-    if control.kind == "slider":
-        with html.Div(classes=css):
-            with html.Div(classes="phonglab-control-head"):
-                html.Span(v_html=(label,), classes="phonglab-label")
-                html.Span(f"{{{{ control_values['{key}'] }}}}", classes="phonglab-mono phonglab-value")
-            v3.VSlider(
-                v_model=(key,),
-                min=control.low,
-                max=control.high,
-                step=control.step,
-                hide_details=True,
-                density="compact",
-                color="primary",
-                thumb_size=14,
-                track_size=3,
-            )
-    elif control.kind == "color":
-        with html.Div(classes=css + " phonglab-color-row"):
-            html.Span(v_html=(label,), classes="phonglab-label")
-            html.Input(type="color", value=(key,), change=f"{key} = $event.target.value", classes="phonglab-color")
-    elif control.kind == "select":
-        with html.Div(classes=css):
-            v3.VSelect(
-                v_model=(key,),
-                items=(_js_items(control.items),),
-                label=control.label,
-                density="compact",
-                variant="outlined",
-                hide_details=True,
-                classes="mt-2",
-            )
-    elif control.kind == "switch":
-        with html.Div(classes=css):
-            v3.VSwitch(v_model=(key,), label=control.label, density="compact", hide_details=True, color="primary")
-
-
-def _js_items(items) -> str:
-    """Select items as a JavaScript literal that fits in an HTML attribute (single quotes)."""
-    return "[" + ", ".join(
-        "{value: %s, title: %s}" % (json.dumps(v).replace("'", "\\'").replace('"', "'"),
-                                    json.dumps(t).replace("'", "\\'").replace('"', "'"))
-        for v, t in items
-    ) + "]"
-
-
-def _finite3(p):
-    values = [float(c) for c in p]
-    if len(values) != 3 or not all(math.isfinite(c) for c in values):
-        raise ValueError(f"a point must be 3 finite numbers, got {p!r}")
-    return values
-
-
 def _changed(old, new) -> set:
     """The scene's top-level fields that differ."""
     names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light")
     return {name for name in names if getattr(old, name) != getattr(new, name)}
-
-
-def _controls_shape(scene) -> tuple:
-    """What decides which controls exist: the light types."""
-    return tuple(type(light).__name__ for light in scene.lights)
-
-
-def _strip_title(body: str) -> str:
-    """The lesson body without its first ``#`` heading (the page shows the title itself)."""
-    lines = body.lstrip("\n").splitlines()
-    if lines and lines[0].startswith("# "):
-        lines = lines[1:]
-    return "\n".join(lines)

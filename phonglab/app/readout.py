@@ -39,7 +39,7 @@ def _vec_text(v, digits: int = 3) -> str:
     return "(" + ", ".join(f"{float(c):+.{digits}f}" for c in v) + ")"
 
 
-def probe_readout(scene, point, normal, vectors, light_index) -> dict:
+def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None) -> dict:
     """The readout beside the view, as plain data.
 
     Parameters
@@ -51,6 +51,8 @@ def probe_readout(scene, point, normal, vectors, light_index) -> dict:
         From the view (None when the scene has no directed light).
     light_index : int or None
         The light the vectors refer to.
+    scene_plan : phonglab.scene.ScenePlan, optional
+        The scene's plan when it is already made (:func:`phonglab.scene.plan`).
 
     Returns
     -------
@@ -61,7 +63,7 @@ def probe_readout(scene, point, normal, vectors, light_index) -> dict:
     """
     p = np.asarray(point, dtype=np.float64).reshape(1, 3)
     n = np.asarray(normal, dtype=np.float64).reshape(1, 3)
-    total = shade(scene, p, n)
+    total = shade(scene, p, n, scene_plan=scene_plan)
     material = scene.material
     ambients = [light for light in scene.lights if isinstance(light, core.AmbientLight)]
     out = {

@@ -84,3 +84,11 @@ def inline(text: str) -> str:
     if html_text.startswith("<p>") and html_text.endswith("</p>") and html_text.count("<p>") == 1:
         html_text = html_text[3:-4]
     return html_text
+
+
+def strip_title(body: str) -> str:
+    """The lesson body without its first ``#`` heading (the page shows the title itself)."""
+    lines = body.lstrip("\n").splitlines()
+    if lines and lines[0].startswith("# "):
+        lines = lines[1:]
+    return "\n".join(lines)

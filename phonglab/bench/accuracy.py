@@ -30,7 +30,7 @@ def add_arguments(parser):
 
 def _check_figure_path(value: str) -> Path:
     from phonglab.accuracy.figure import FORMATS
-    from phonglab.cli import UsageError
+    from phonglab.bench.usage import UsageError
 
     path = Path(value)
     if path.suffix.lower().lstrip(".") not in FORMATS:
@@ -53,7 +53,7 @@ def run(args) -> int:
     try:
         written = write_figure(results, figure)
     except OSError as exc:
-        from phonglab.cli import UsageError
+        from phonglab.bench.usage import UsageError
 
         raise UsageError(f"--figure: cannot write {str(figure)!r}: {exc.strerror or exc}") from None
     results["figure"] = written

@@ -76,7 +76,7 @@ def run(args) -> int:
     n = 200_000 if args.quick and args.points == 1_000_000 else args.points
     repeats = 3 if args.quick else args.repeats
     if n < 1 or repeats < 1:
-        from phonglab.cli import UsageError
+        from phonglab.bench.usage import UsageError
 
         raise UsageError(f"--points and --repeats must be >= 1, got {n} and {repeats}")
     points, normals = make_inputs(n)

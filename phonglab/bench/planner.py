@@ -28,8 +28,8 @@ import time
 
 import numpy as np
 
-import phonglab as pl
-from phonglab.scene import Camera, Geometry, Scene, plan, shade
+from phonglab.bench.scenes import red_sphere
+from phonglab.scene import Scene, plan, shade
 
 HELP = "planned scenes against the full evaluation"
 
@@ -72,11 +72,7 @@ def sphere_vertices(n: int, dtype, seed: int = 0):
 
 def cases() -> dict[str, Scene]:
     """The benchmark scenes; the first is the baseline's scene."""
-    material = pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40)
-    ambient = pl.AmbientLight(intensity=0.2)
-    point = pl.PointLight(position=(2, 2.5, 3))
-    local = Camera(eye=(0, 0, 4))
-    base = Scene(Geometry("sphere"), material, (ambient, point), local, title="point light, local viewer")
+    base = red_sphere(title="point light, local viewer")
     return {
         "point light, local viewer": base,
         "ambient only": base.replace("lights", [{"type": "ambient", "intensity": 0.2}]),
@@ -176,7 +172,7 @@ def run(args) -> int:
     if args.quick:
         n_points, repeats = 100_000, 3
     if n_points < 1 or repeats < 1:
-        from phonglab.cli import UsageError
+        from phonglab.bench.usage import UsageError
 
         raise UsageError(f"--points and --repeats must be >= 1, got {n_points} and {repeats}")
     result = measure(n_points, repeats, np.dtype(args.dtype))

@@ -265,43 +265,11 @@ def sphere_resolution(vertices: int = VERTICES) -> tuple[int, int]:
 
 
 def write_bench_lesson(folder, resolution: int) -> Path:
-    """A one-lesson folder: a sphere of ``resolution`` with a shininess slider."""
+    """A one-lesson folder: a sphere of ``resolution`` with a shininess slider (:func:`phonglab.bench.scenes.bench_lesson`)."""
+    from phonglab.bench.scenes import bench_lesson
+
     path = Path(folder) / "01-bench.md"
-    path.write_text(
-        f"""+++
-number = 1
-title = "Benchmark sphere"
-goal = "Move the shininess slider."
-controls = ["material.shininess"]
-
-[geometry]
-kind = "sphere"
-resolution = {resolution}
-
-[material]
-ka = 0.1
-kd = [0.8, 0.3, 0.2]
-ks = 0.6
-shininess = 40
-
-[[lights]]
-type = "ambient"
-intensity = 0.2
-
-[[lights]]
-type = "point"
-position = [2, 2.5, 3]
-
-[camera]
-eye = [0, 0, 4]
-+++
-
-# Benchmark sphere
-
-The shininess $\\alpha$ sets the size of the highlight.
-""",
-        encoding="utf-8",
-    )
+    path.write_text(bench_lesson(resolution), encoding="utf-8")
     return path
 
 
@@ -431,7 +399,7 @@ def _verdict(value: float, target: float) -> str:
 def run(args) -> int:
     from playwright.sync_api import sync_playwright
 
-    from phonglab.cli import UsageError
+    from phonglab.bench.usage import UsageError
 
     if not os.path.exists(CHROMIUM):
         raise UsageError(CHROMIUM_MISSING)

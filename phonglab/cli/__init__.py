@@ -20,6 +20,8 @@ import importlib
 import os
 import sys
 
+from phonglab.bench.usage import UsageError  # raised by the subcommands and the benchmarks
+
 #: subcommand name -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
     "serve": ("phonglab.cli.serve", "open the lesson app in a browser"),
@@ -29,10 +31,6 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "bench": ("phonglab.cli.bench", "measure speed and accuracy (ratios, same run)"),
     "grade": ("phonglab.cli.grade", "grade a student's shade() for one point against the core"),
 }
-
-
-class UsageError(Exception):
-    """Bad input on the command line: printed as one line, exit status 2."""
 
 
 def _load(name: str):

@@ -1,19 +1,19 @@
 """Fixtures for the browser tests: a ``phonglab serve`` server and headless Chromium.
 
-The server runs the test lessons written below (small meshes, known lights)
-on a free 127.0.0.1 port, in its own process group, and is killed by PID at
-the end. Chromium is Debian's ``/usr/bin/chromium`` driven by Playwright; if
+The server runs the test lessons of :data:`phonglab.bench.scenes.LESSONS`
+(small meshes, known lights) on a free 127.0.0.1 port, in its own process
+group, and is killed by PID at the end. Chromium is Debian's ``/usr/bin/chromium`` driven by Playwright; if
 it is missing the tests fail (they never skip) and say how to install it.
 """
 
 from __future__ import annotations
 
 import os
-import textwrap
 from pathlib import Path
 
 import pytest
 
+from phonglab.bench.scenes import write_lessons
 from phonglab.bench.ui import (
     CHROMIUM,
     CHROMIUM_MISSING,
@@ -27,229 +27,10 @@ from phonglab.bench.ui import (
     wait_until_serving,
 )
 
-#: the lessons the browser tests run against: (file name, text)
-LESSONS = {
-    "01-sphere.md": """
-        +++
-        number = 1
-        title = "A red sphere"
-        goal = "Watch $k_s$ and $\\\\alpha$ shape the highlight."
-        controls = ["material.ks", "material.shininess", "lights[1].position", "interpolation"]
-        question = "Where is $n\\\\cdot l$ largest?"
-        answer = "Where the normal points at the light: $n = l$."
-        probe = [0.3, 0.4, 0.866]
-
-        [geometry]
-        kind = "sphere"
-        resolution = 48
-
-        [material]
-        ka = 0.1
-        kd = [0.8, 0.3, 0.2]
-        ks = 0.6
-        shininess = 20
-
-        [[lights]]
-        type = "ambient"
-        intensity = 0.2
-
-        [[lights]]
-        type = "point"
-        position = [2, 2.5, 3]
-
-        [camera]
-        eye = [0, 0, 4]
-
-        [[experiments]]
-        label = "Matte"
-        text = "Set $k_s = 0$."
-        set = {"material.ks" = 0}
-        +++
-
-        # A red sphere
-
-        The diffuse term is $k_d I_d \\max(0, n\\cdot l)$ and the specular one
-
-        $$k_s I_s \\max(0, r\\cdot v)^{\\alpha}.$$
-
-        Costs \\$0.
-        """,
-    "02-spot.md": """
-        +++
-        number = 2
-        title = "A spotlight on a floor"
-        goal = "Open and close the cone."
-        controls = ["lights[1].cutoff", "lights[1].exponent"]
-
-        [geometry]
-        kind = "plane"
-        resolution = 24
-
-        [material]
-        ka = 0.1
-        kd = 0.8
-        ks = 0.2
-        shininess = 10
-
-        [[lights]]
-        type = "ambient"
-        intensity = 0.1
-
-        [[lights]]
-        type = "spot"
-        position = [0, 0, 2]
-        direction = [0, 0, -1]
-        cutoff = 25
-        exponent = 4
-
-        [camera]
-        eye = [0, -3, 3]
-        up = [0, 0, 1]
-        +++
-
-        # A spotlight on a floor
-
-        The spot factor is $\\cos^e\\theta$ inside the cone. With attenuation,
-
-        $$I = \\frac{\\cos^e\\theta}{a + b\\,d + c\\,d^2} \\left[k_d I_d \\max(0, n\\cdot l) + k_s I_s (r\\cdot v)^{\\alpha}\\right],$$
-
-        and the light a point receives from the whole hemisphere is
-
-        $$L_o(\\mathbf{x}, \\omega_o) = L_e(\\mathbf{x}, \\omega_o) + \\int_{\\Omega} f_r(\\mathbf{x}, \\omega_i, \\omega_o)\\, L_i(\\mathbf{x}, \\omega_i)\\, (\\omega_i \\cdot \\mathbf{n})\\, d\\omega_i + \\sum_{j=1}^{N} \\frac{\\Phi_j \\cos\\theta_j}{4\\pi d_j^2}.$$
-
-        The cone's edge is at $\\theta = $ cutoff.
-        """,
-    "03-broken.md": """
-        +++
-        number = 3
-        title = "A broken lesson"
-        controls = ["material.kd"]
-
-        [geometry]
-        kind = "sphere"
-
-        [material]
-        ka = 0.1
-        kd = -3
-        ks = 0.5
-        shininess = 40
-
-        [[lights]]
-        type = "point"
-        position = [2, 2, 2]
-        +++
-
-        # A broken lesson
-        """,
-    "04-raw-normals.md": """
-        +++
-        number = 4
-        title = "Normals left unnormalised"
-        controls = ["interpolation"]
-        mistake = "unnormalised-normals"
-        interpolation = "pixel"
-
-        [geometry]
-        kind = "sphere"
-        resolution = 10
-
-        [material]
-        ka = 0.1
-        kd = [0.8, 0.3, 0.2]
-        ks = 0.8
-        shininess = 60
-
-        [[lights]]
-        type = "ambient"
-        intensity = 0.15
-
-        [[lights]]
-        type = "point"
-        position = [2, 2.5, 3]
-
-        [camera]
-        eye = [0, 0, 4]
-        +++
-
-        # Normals left unnormalised
-
-        Per pixel, the blended normal must be normalised again.
-        """,
-    "05-unclamped.md": """
-        +++
-        number = 5
-        title = "Diffuse without the clamp"
-        controls = ["material.kd"]
-        mistake = "no-clamp-diffuse"
-
-        [geometry]
-        kind = "sphere"
-        resolution = 32
-
-        [material]
-        ka = 0.6
-        kd = 0.8
-        ks = 0
-        shininess = 10
-
-        [[lights]]
-        type = "ambient"
-        intensity = 0.3
-
-        [[lights]]
-        type = "point"
-        position = [-2.5, 2.0, 1.0]
-
-        [camera]
-        eye = [0, 0, 4]
-        +++
-
-        # Diffuse without the clamp
-
-        Where $n\\cdot l < 0$ the diffuse term must be zero, not negative.
-        """,
-    "11-accuracy.md": """
-        +++
-        number = 11
-        title = "Accuracy costs time"
-        controls = ["interpolation", "geometry.resolution", "material.shininess"]
-        interpolation = "gouraud"
-
-        [geometry]
-        kind = "sphere"
-        resolution = 16
-
-        [material]
-        ka = 0.1
-        kd = [0.8, 0.3, 0.2]
-        ks = 0.8
-        shininess = 200
-
-        [[lights]]
-        type = "ambient"
-        intensity = 0.2
-
-        [[lights]]
-        type = "point"
-        position = [2, 2.5, 3]
-
-        [camera]
-        eye = [0, 0, 4]
-        +++
-
-        # Accuracy costs time
-
-        Pick a method and a mesh; compare with the exact sphere.
-        """,
-}
-
 
 @pytest.fixture(scope="session")
 def lesson_dir(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("lessons")
-    for name, text in LESSONS.items():
-        (folder / name).write_text(textwrap.dedent(text).lstrip(), encoding="utf-8")
-    return folder
+    return write_lessons(tmp_path_factory.mktemp("lessons"))
 
 
 @pytest.fixture(scope="session")

@@ -1,13 +1,12 @@
 """The accuracy lesson's panel in a real browser: the plot, the picker, the error images.
 
-The test lesson ``11-accuracy.md`` (``conftest.LESSONS``) gets the panel by
+The test lesson ``11-accuracy.md`` (:data:`phonglab.bench.scenes.LESSONS`) gets the panel by
 its name. The plot is measured once per server process in worker
 processes; while it is being measured, another tab keeps working.
 """
 
 from __future__ import annotations
 
-import time
 
 import pytest
 from waiting import wait_for

@@ -11,16 +11,17 @@ from __future__ import annotations
 
 import math
 import re
-import time
 import urllib.request
 
 import numpy as np
 import pytest
 from waiting import wait_for
 
-#: the first lesson's light and eye (see conftest.LESSONS)
-LIGHT = np.array([2.0, 2.5, 3.0])
-EYE = np.array([0.0, 0.0, 4.0])
+from phonglab.bench import scenes
+
+#: the first lesson's light and eye (the red sphere's)
+LIGHT = np.array(scenes.LIGHT_POSITION)
+EYE = np.array(scenes.EYE)
 
 
 def expected_dots(point):
@@ -93,6 +94,9 @@ def test_clicking_the_surface_moves_the_probe_and_its_vectors(app_page):
 def test_dragging_turns_the_view_without_moving_the_probe(app_page):
     page = app_page.page
     before = app_page.readout()
+    # every probe point the server sends from now on, in order
+    page.evaluate("""() => { window.__probes = [];
+        window.trame.state.watch(['readout'], (r) => window.__probes.push(r && r.point)); }""")
     hash_before = app_page.pixel_hash()
     box = page.locator(".phonglab-view canvas").bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
@@ -102,8 +106,13 @@ def test_dragging_turns_the_view_without_moving_the_probe(app_page):
     page.mouse.up()
     app_page.wait_settled()
     assert app_page.pixel_hash() != hash_before, "dragging did not turn the view"
-    time.sleep(0.5)
     assert app_page.readout()["point"] == before["point"], "a drag moved the probe"
+    # a click after the drag: once its probe is shown, the server has handled everything the drag sent
+    page.mouse.click(x, y)
+    wait_for(lambda: app_page.readout()["point"] != before["point"], "the click to move the probe")
+    probes = page.evaluate("() => window.__probes")
+    seen = [p for i, p in enumerate(probes) if i == 0 or p != probes[i - 1]]
+    assert len(seen) == 2, f"probe points shown between the drag and the click: {seen}"
 
 
 def test_switching_lessons_and_a_broken_lesson_shows_its_errors(app_page):
@@ -133,9 +142,12 @@ def test_two_tabs_keep_separate_state(app_page, new_tab):
     # tab 2 moves its own light; neither sees the other's change
     other.set_state("lights_1__azimuth", "10")
     wait_for(lambda: other.readout()["dots"] != app_page.readout()["dots"], "tab 2's vectors to change")
-    time.sleep(0.5)
+    # the readout and the control values of tab 2's change arrive together
     assert other.state(key) == pytest.approx(0.6), "tab 2's k_s moved with tab 1's slider"
     assert other.state("material__ks") == pytest.approx([0.6] * 3)
+    # one more step on tab 1: once it shows, tab 1 has been refreshed after tab 2's change
+    app_page.page.keyboard.press("ArrowLeft")
+    wait_for(lambda: app_page.state("material__ks") == pytest.approx([0.54] * 3), "tab 1's k_s to reach 0.54")
     assert app_page.state("lights_1__azimuth") != pytest.approx(10), "tab 1's light moved with tab 2's"
 
 

@@ -1,6 +1,6 @@
 """Display maths in the lesson column: scaled down to fit, or scrolled within the column; never cut off.
 
-Lesson 2 of ``conftest.LESSONS`` has a display formula a little wider than
+Lesson 2 of :data:`phonglab.bench.scenes.LESSONS` has a display formula a little wider than
 the text column of a 1280 px window (the diffuse and specular terms with a
 spotlight and attenuation) and one far wider (the rendering equation plus a
 sum over lights). The checks run at 1280 and 1440 px.

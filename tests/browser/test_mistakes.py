@@ -1,15 +1,12 @@
 """A lesson's common mistake in a real browser: the switch changes the picture and back.
 
-The test lessons (``conftest.LESSONS``) are lesson 4, whose mistake (normals
+The test lessons (:data:`phonglab.bench.scenes.LESSONS`) are lesson 4, whose mistake (normals
 not renormalised) shows only per pixel and which opens in pixel mode, and
 lesson 5, whose mistake (no clamp on the diffuse term) shows per vertex too.
 """
 
 from __future__ import annotations
 
-import time
-
-import pytest
 from waiting import wait_for
 
 SWITCH = ".phonglab-mistake-switch input"
@@ -17,16 +14,9 @@ NOTE = ".phonglab-mistake-note"
 
 
 def steady_hash(app_page) -> int:
-    """The view's pixel hash once two reads half a second apart agree (the lesson has finished drawing)."""
-    last = app_page.pixel_hash()
-    for _ in range(20):
-        time.sleep(0.5)
-        app_page.wait_settled()
-        now = app_page.pixel_hash()
-        if now == last:
-            return now
-        last = now
-    pytest.fail("the view kept changing for 10 s")
+    """The view's pixel hash once it has not changed for 40 frames (the lesson has finished drawing)."""
+    app_page.wait_settled(frames=40)
+    return app_page.pixel_hash()
 
 
 def pixel_src(app_page) -> str:

@@ -1,0 +1,419 @@
+"""The lesson page's layout: every widget of the page, bound to the app's state keys.
+
+This module only draws. It knows the state keys the app fills (``lesson_html``,
+``readout``, ``control_values``, ...; see :class:`~phonglab.app.lesson_app.LessonApp`)
+and calls back into the app through :class:`Handlers`; it keeps no state of
+its own. Its entry points:
+
+* :func:`initial_state` gives every state key the page shows, with the value
+  it has before a lesson is open;
+* :func:`build_page` lays out the whole page once per tab: the bar, the
+  lesson list, the lesson's text, the view with its tools, the accuracy
+  panel, the readout and the planner's verdict;
+* :func:`build_controls` (re)draws the controls panel, a template the page
+  includes by name, whenever the set of controls changes (a new lesson, a
+  light of another type). A value change alone never redraws it: the widgets
+  follow their state keys.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from typing import Callable
+
+from trame.ui.html import DivLayout
+from trame.ui.vuetify3 import VAppLayout
+from trame.widgets import client, html
+from trame.widgets import vtk as vtk_widgets
+from trame.widgets import vuetify3 as v3
+
+from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
+from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
+from phonglab.app.client import ColorPush
+from phonglab.app.control import Control
+from phonglab.app.controls import TERMS
+
+
+def initial_state() -> dict:
+    """Every state key the page shows, with its value before a lesson is open (new objects each call)."""
+    return {
+        "drawer": False,
+        "lesson_index": -1,
+        "lesson_title": "",
+        "lesson_number": None,
+        "lesson_goal_html": "",
+        "lesson_html": "",
+        "lesson_errors": [],
+        "experiments": [],
+        "question_html": "",
+        "answer_html": "",
+        "show_answer": False,
+        "readout": None,
+        "plan_computed": [],
+        "plan_skipped": [],
+        "legend": [],
+        "notice": None,
+        "view_colors": None,
+        "pixel_src": "",
+        "pixel_mode": False,
+        "control_values": {},
+        "control_labels": {},
+        "has_view": False,
+        "pick_target": "probe",
+        "mistake": None,
+        "mistake_note": "",
+    }
+
+
+#: the name of the controls panel's template (:func:`build_controls`)
+CONTROLS_TEMPLATE = "phonglab_controls"
+
+
+@dataclass(frozen=True)
+class Handlers:
+    """What the page's buttons and the view call on the app.
+
+    Each takes the arguments the browser sends (checked by the app, not here).
+    """
+
+    open_lesson: Callable  #: ``(index)``: a lesson picked in the list
+    reset_lesson: Callable  #: ``()``: the Reset button
+    export_figure: Callable  #: ``()``: the Export PNG button
+    apply_experiment: Callable  #: ``(index)``: an experiment's Apply button
+    pick: Callable  #: ``(event)``: a click on the view (``event["ray"]``)
+    camera: Callable  #: ``(camera)``: the browser's camera after a turn or zoom
+
+
+def build_page(server, render_window, handlers: Handlers):
+    """Lay out the page for one tab.
+
+    Parameters
+    ----------
+    server : trame server
+    render_window : vtkRenderWindow
+        The window the local view shows (the app's SceneView's).
+    handlers : Handlers
+
+    Returns
+    -------
+    (layout, view)
+        The page's layout and its ``VtkLocalView`` (the app calls its
+        ``update()`` and ``push_camera()``).
+    """
+    page = _Page(server, render_window, handlers)
+    page.build()
+    return page.layout, page.view
+
+
+class _Page:
+    """The page's columns as methods, sharing the server, the window and the handlers."""
+
+    def __init__(self, server, render_window, handlers: Handlers):
+        self.server = server
+        self.render_window = render_window
+        self.handlers = handlers
+        self.layout = None
+        self.view = None
+
+    def build(self):
+        with VAppLayout(self.server, full_height=True) as self.layout:
+            self.layout.root.classes = "phonglab"
+            with v3.VAppBar(density="compact", elevation=1, classes="phonglab-bar"):
+                v3.VAppBarNavIcon(click="drawer = !drawer", classes="phonglab-menu")
+                html.Div("phonglab", classes="phonglab-brand")
+                html.Div(
+                    "{{ lesson_number != null ? lesson_number + ' · ' : '' }}{{ lesson_title }}",
+                    classes="phonglab-lesson-title",
+                )
+                v3.VSpacer()
+                v3.VBtn("Reset", prepend_icon="mdi-restore", variant="text", click=self.handlers.reset_lesson,
+                        disabled=("lesson_errors.length > 0",), classes="phonglab-reset")
+                v3.VBtn("Export PNG", prepend_icon="mdi-image-outline", variant="tonal", color="primary",
+                        click=self.handlers.export_figure, disabled=("lesson_errors.length > 0",),
+                        classes="phonglab-export ml-2 mr-2")
+            with v3.VNavigationDrawer(v_model=("drawer",), temporary=True, width=300, classes="phonglab-drawer"):
+                v3.VListSubheader("Lessons")
+                with v3.VList(density="compact", nav=True):
+                    with v3.VListItem(
+                        v_for="item in lessons",
+                        key="item.index",
+                        active=("item.index === lesson_index",),
+                        click=(self.handlers.open_lesson, "[item.index]"),
+                        classes="phonglab-lesson-item",
+                    ):
+                        with v3.Template(v_slot_prepend=True):
+                            html.Span("{{ item.number != null ? item.number : '·' }}", classes="phonglab-num")
+                        v3.VListItemTitle("{{ item.title }}")
+                        with v3.Template(v_slot_append=True):
+                            v3.VIcon("mdi-alert-circle-outline", color="error", v_if="!item.ok", size="small")
+            with v3.VMain(classes="phonglab-main"):
+                with html.Div(classes="phonglab-grid"):
+                    self._lesson_column()
+                    self._view_column()
+                    self._control_column()
+
+    def _lesson_column(self):
+        with html.Div(classes="phonglab-text"):
+            with html.Div(v_if="lesson_errors.length", classes="phonglab-errors"):
+                html.H2("This lesson file has problems")
+                html.P("Fix them in the file and reload the page. phonglab check lists them too.")
+                with html.Ul():
+                    html.Li("{{ e }}", v_for="(e, i) in lesson_errors", key="i", classes="phonglab-error")
+            with html.Div(v_else=True):
+                html.H1("{{ lesson_title }}", classes="phonglab-h1")
+                html.Div(v_if="lesson_goal_html", v_html=("'<b>Goal.</b> ' + lesson_goal_html",),
+                         classes="phonglab-goal")
+                html.Div(v_html=("lesson_html",), classes="phonglab-body")
+                with html.Div(v_if="experiments.length", classes="phonglab-experiments"):
+                    html.H3("Experiments")
+                    with v3.VCard(v_for="x in experiments", key="x.index", variant="outlined",
+                                  classes="phonglab-experiment mb-2"):
+                        with v3.VCardText(classes="d-flex align-center"):
+                            with html.Div(classes="flex-grow-1 pr-2"):
+                                html.Div(v_html=("x.label",), classes="font-weight-medium")
+                                html.Div(v_if="x.text", v_html=("x.text",), classes="text-body-2")
+                            v3.VBtn("Apply", size="small", color="primary", variant="flat",
+                                    click=(self.handlers.apply_experiment, "[x.index]"), classes="phonglab-apply")
+                with html.Div(v_if="mistake", classes="phonglab-mistake"):
+                    html.H3("A common mistake: {{ mistake.title }}")
+                    html.P("{{ mistake.looks_like }}")
+                    with html.Div(classes="phonglab-code"):
+                        html.Div("wrong", classes="phonglab-code-tag phonglab-code-wrong")
+                        html.Code("{{ mistake.wrong }}")
+                        html.Div("right", classes="phonglab-code-tag phonglab-code-right")
+                        html.Code("{{ mistake.right }}")
+                    v3.VSwitch(v_model=("view__mistake", False), v_if="mistake.available", color="error",
+                               label="Show the mistake in the picture", density="compact", hide_details=True,
+                               classes="phonglab-mistake-switch")
+                    html.P("{{ mistake_note }}", v_if="mistake_note", classes="phonglab-note phonglab-mistake-note")
+                with html.Div(v_if="question_html", classes="phonglab-question"):
+                    html.H3("Check yourself")
+                    html.Div(v_html=("question_html",))
+                    v3.VBtn("{{ show_answer ? 'Hide answer' : 'Show answer' }}", size="small", variant="text",
+                            color="primary", click="show_answer = !show_answer", classes="phonglab-answer-btn px-0")
+                    html.Div(v_if="show_answer", v_html=("answer_html",), classes="phonglab-answer")
+
+    def _view_column(self):
+        with html.Div(classes="phonglab-centre"):
+            with html.Div(classes="phonglab-view"):
+                with vtk_widgets.VtkLocalView(
+                    self.render_window,
+                    ref="phonglab_view",
+                    picking_modes=("['click']",),
+                    click=(self.handlers.pick, "[$event]"),
+                    interactor_settings=("view_interaction", _INTERACTION),
+                    interactor_events=("['EndAnimation']",),
+                    EndAnimation=(self.handlers.camera, "[trame.refs.phonglab_view.getCamera()]"),
+                ) as self.view:
+                    ColorPush(push=("view_colors",))
+                client.SizeObserver("view_size")
+                with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
+                    html.Img(src=("pixel_src",), alt="per-pixel shading by the core")
+                with html.Div(classes="phonglab-legend", v_if="legend.length"):
+                    with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
+                                   title=("v.meaning",)):
+                        html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
+                        html.B("{{ v.letter }}")
+                with html.Div(classes="phonglab-tools", v_if="!lesson_errors.length"):
+                    with v3.VBtnToggle(v_model=("view__term",), mandatory=True, density="compact",
+                                       variant="outlined", divided=True, classes="phonglab-term-toggle"):
+                        for value, title in TERMS:
+                            v3.VBtn(title.replace(" terms", ""), value=value, size="small",
+                                    classes=f"phonglab-term-{value}")
+                    with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
+                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
+                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
+                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
+                html.Div(
+                    "{{ pixel_mode ? 'Per-pixel shading by the core · click to pick · turn the view and it follows' : "
+                    "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
+                    "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
+                    classes="phonglab-hint",
+                )
+            self._accuracy_panel()
+            self._readout_panel()
+
+    def _accuracy_panel(self):
+        """The accuracy lesson's panel: the error images for a picked method and mesh, and the plot."""
+        with html.Div(classes="phonglab-accuracy", v_if="accuracy"):
+            with html.Div(classes="phonglab-accuracy-head"):
+                html.Span("Error against the exact sphere", classes="phonglab-section")
+                with v3.VBtnToggle(v_model=("accuracy_method",), mandatory=True, density="compact",
+                                   variant="outlined", divided=True, classes="phonglab-accuracy-method"):
+                    for value, title in ACCURACY_METHODS:
+                        v3.VBtn(title, value=value, size="small", classes=f"phonglab-accuracy-method-{value}")
+                with v3.VBtnToggle(v_model=("accuracy_resolution",), mandatory=True, density="compact",
+                                   variant="outlined", divided=True, classes="phonglab-accuracy-resolution"):
+                    for value in ACCURACY_RESOLUTIONS:
+                        v3.VBtn(str(value), value=(str(value),), size="small",  # bound: a number, not a string
+                                classes=f"phonglab-accuracy-resolution-{value}")
+                html.Span("segments", classes="phonglab-note")
+            v3.VProgressLinear(indeterminate=True, v_if="accuracy_busy", color="primary", height=2,
+                               classes="phonglab-accuracy-busy")
+            html.Div("Measuring… (the first picture takes a few seconds)", v_if="!accuracy_view",
+                     classes="phonglab-note phonglab-accuracy-wait")
+            with html.Div(v_else=True, classes="phonglab-accuracy-images"):
+                for key, caption in (
+                    ("render", "'render: ' + accuracy_view.method + ', ' + accuracy_view.resolution + ' segments'"),
+                    ("reference", "'exact sphere'"),
+                    ("error", "'error |render \u2212 exact|, α = ' + accuracy_view.shininess"),
+                ):
+                    with html.Figure(classes=f"phonglab-accuracy-figure phonglab-accuracy-{key}"):
+                        html.Img(src=(f"accuracy_view.{key}",), alt=key)
+                        html.Figcaption(f"{{{{ {caption} }}}}")
+                with html.Div(classes="phonglab-accuracy-scale"):
+                    html.Img(src=("accuracy_view.scale",), alt="error colour scale")
+                    with html.Div(classes="phonglab-accuracy-ticks"):
+                        html.Span("{{ t }}", v_for="(t, i) in accuracy_view.scale_labels", key="i")
+                with html.Div(classes="phonglab-accuracy-figures"):
+                    with html.Div(v_for="f in accuracy_view.figures", key="f.name", title=("f.title",),
+                                  classes="phonglab-accuracy-number"):
+                        html.Span("{{ f.name }}", classes="phonglab-term-name")
+                        html.Span("{{ f.value }}", classes="phonglab-mono",
+                                  data_figure=("f.name",), __properties=[("data_figure", "data-figure")])
+            html.Div("What accuracy costs in time (quick run of phonglab bench accuracy)",
+                     classes="phonglab-section mt-3")
+            with html.Div(v_if="accuracy_plot.status === 'measuring'", classes="phonglab-accuracy-measuring"):
+                v3.VProgressCircular(indeterminate=True, size=18, width=2, color="primary")
+                html.Span("measuring… the four studies take about five seconds", classes="phonglab-note")
+            html.Div("Could not measure: {{ accuracy_plot.error }}", v_if="accuracy_plot.status === 'failed'",
+                     classes="phonglab-note phonglab-accuracy-failed")
+            html.Img(v_if="accuracy_plot.status === 'ready'", src=("accuracy_plot.src",),
+                     alt="error against time for the four studies", title="click to enlarge",
+                     click="accuracy_zoom = true", classes="phonglab-accuracy-plot")
+            with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw"):
+                with v3.VCard(click="accuracy_zoom = false"):
+                    html.Img(src=("accuracy_plot.src",), classes="phonglab-accuracy-plot-large")
+
+    def _readout_panel(self):
+        with html.Div(classes="phonglab-readout", v_if="readout && !accuracy"):
+            with html.Div(classes="phonglab-readout-head"):
+                html.Span("At the probe", classes="phonglab-section")
+                html.Span("{{ readout.point }}", classes="phonglab-mono phonglab-point")
+            with html.Div(classes="phonglab-dots"):
+                with html.Div(v_for="d in readout.dots", key="d.name", classes="phonglab-dot"):
+                    html.Span(v_html=("d.tex",))
+                    html.Span("=", classes="phonglab-eq")
+                    html.Span("{{ d.value }}", classes="phonglab-mono phonglab-dot-value",
+                              data_name=("d.name",), __properties=[("data_name", "data-name")])
+            with html.Div(classes="phonglab-terms"):
+                with html.Div(v_for="t in readout.terms", key="t.name", classes="phonglab-term",
+                              title="RGB, before clipping to the screen's 0..1"):
+                    html.Span("", classes="phonglab-swatch", style=("{background: t.hex}",))
+                    html.Span("{{ t.name }}", classes="phonglab-term-name")
+                    html.Span("{{ t.value }}", classes="phonglab-mono",
+                              data_term=("t.name",), __properties=[("data_term", "data-term")])
+            html.Div(v_html=("readout.equation",), classes="phonglab-equation")
+            html.Div("{{ n }}", v_for="(n, i) in readout.notes", key="i", classes="phonglab-note")
+
+    def _control_column(self):
+        with html.Div(classes="phonglab-side"):
+            with v3.VAlert(
+                v_if="notice",
+                type=("notice.kind",),
+                variant="tonal",
+                density="compact",
+                closable=True,
+                classes="phonglab-notice mb-3",
+                click_close="notice = null",
+            ):
+                html.Span("{{ notice.text }}")
+            client.ServerTemplate(name=CONTROLS_TEMPLATE)
+            with html.Div(classes="phonglab-plan", v_if="!lesson_errors.length"):
+                html.Div("What the planner computes", classes="phonglab-section")
+                with html.Div(v_for="p in plan_computed", key="p.effect", classes="phonglab-plan-row"):
+                    v3.VIcon("mdi-check-circle", color="success", size="small")
+                    html.B("{{ p.effect }}")
+                    html.Span("{{ p.reason }}", classes="phonglab-plan-reason")
+                with html.Div(v_for="p in plan_skipped", key="p.effect",
+                              classes="phonglab-plan-row phonglab-plan-skipped"):
+                    v3.VIcon("mdi-minus-circle-outline", color="grey", size="small")
+                    html.B("{{ p.effect }}")
+                    html.Span("{{ p.reason }}", classes="phonglab-plan-reason")
+
+
+def build_controls(server, chosen, all_controls=()) -> None:
+    """Draw the controls panel: the lesson's controls (``chosen``), then every control by group."""
+    with DivLayout(server, template_name=CONTROLS_TEMPLATE) as layout:
+        layout.root.classes = "phonglab-controls"
+        if chosen:
+            html.Div("This lesson", classes="phonglab-section")
+            group = None
+            for control in chosen:
+                if control.group != group and control.group not in ("Material", "Shading", "View"):
+                    html.Div(control.group, classes="phonglab-subsection")
+                group = control.group
+                _widget(control)
+        if all_controls:
+            with v3.VExpansionPanels(variant="accordion", classes="phonglab-all mt-3", multiple=True):
+                groups = []
+                for control in all_controls:
+                    if control.group not in groups:
+                        groups.append(control.group)
+                for group in groups:
+                    with v3.VExpansionPanel(title=group, classes="phonglab-group"):
+                        with v3.VExpansionPanelText():
+                            for control in all_controls:
+                                if control.group == group:
+                                    _widget(control, suffix="all")
+
+
+#: mouse: left turns, shift-left pans, wheel zooms; a plain click picks
+_INTERACTION = [
+    {"button": 1, "action": "Rotate"},
+    {"button": 2, "action": "Pan"},
+    {"button": 3, "action": "Zoom", "scrollEnabled": True},
+    {"button": 1, "action": "Pan", "shift": True},
+    {"button": 1, "action": "Zoom", "control": True},
+]
+
+
+def _widget(control: Control, suffix: str = "") -> None:
+    """One control's widget, bound to its state key."""
+    css = f"phonglab-control phonglab-control-{control.key}" + (f" phonglab-control-{suffix}" if suffix else "")
+    key = control.key
+    label = f"control_labels['{key}']"
+    if control.kind == "slider":
+        with html.Div(classes=css):
+            with html.Div(classes="phonglab-control-head"):
+                html.Span(v_html=(label,), classes="phonglab-label")
+                html.Span(f"{{{{ control_values['{key}'] }}}}", classes="phonglab-mono phonglab-value")
+            v3.VSlider(
+                v_model=(key,),
+                min=control.low,
+                max=control.high,
+                step=control.step,
+                hide_details=True,
+                density="compact",
+                color="primary",
+                thumb_size=14,
+                track_size=3,
+            )
+    elif control.kind == "color":
+        with html.Div(classes=css + " phonglab-color-row"):
+            html.Span(v_html=(label,), classes="phonglab-label")
+            html.Input(type="color", value=(key,), change=f"{key} = $event.target.value", classes="phonglab-color")
+    elif control.kind == "select":
+        with html.Div(classes=css):
+            v3.VSelect(
+                v_model=(key,),
+                items=(_js_items(control.items),),
+                label=control.label,
+                density="compact",
+                variant="outlined",
+                hide_details=True,
+                classes="mt-2",
+            )
+    elif control.kind == "switch":
+        with html.Div(classes=css):
+            v3.VSwitch(v_model=(key,), label=control.label, density="compact", hide_details=True, color="primary")
+
+
+def _js_items(items) -> str:
+    """Select items as a JavaScript literal that fits in an HTML attribute (single quotes)."""
+    return "[" + ", ".join(
+        "{value: %s, title: %s}" % (json.dumps(v).replace("'", "\\'").replace('"', "'"),
+                                    json.dumps(t).replace("'", "\\'").replace('"', "'"))
+        for v, t in items
+    ) + "]"
