@@ -133,7 +133,7 @@ def _write_json(path, results: dict) -> None:
 
 def picture_scene():
     """The material, lights and view of the picture."""
-    import phonglab as pl
+    from phonglab import core as pl
     from phonglab.accuracy.raycast import View
 
     material = pl.Material(ka=(0.25, 0.3, 0.4), kd=(0.55, 0.6, 0.75), ks=0.6, shininess=30)
@@ -152,7 +152,7 @@ def sphere_images(file, limits):
     """
     import numpy as np
 
-    import phonglab as pl
+    from phonglab import core as pl
     from phonglab.accuracy.raycast import camera_rays, hit_sphere
     from phonglab.teaching.grading import encode_scene
     from phonglab.teaching.sandbox import Sandbox
