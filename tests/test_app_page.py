@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import threading
 
 import numpy as np
 import pytest
@@ -81,17 +82,41 @@ def test_a_colour_change_pushes_exactly_the_views_new_colours(app):
     assert np.frombuffer(push["data"], np.uint8).reshape(-1, 3).tolist() == colours.tolist()
 
 
+def without_a_loop(function, *args):
+    """Call ``function`` in a thread where no event loop runs, as a script would: the app refreshes its panels at once.
+
+    (Once the browser tests have started Playwright, its sync API keeps an event
+    loop marked as running in the main thread, and the app would put the
+    refresh off to a loop that never turns.)
+    """
+    errors = []
+
+    def run():
+        try:
+            function(*args)
+        except BaseException as exc:  # noqa: BLE001 - raised again in the caller's thread
+            errors.append(exc)
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    thread.join()
+    if errors:
+        raise errors[0]
+
+
 def test_a_value_change_keeps_the_controls_panel_and_a_new_light_type_redraws_it(app, monkeypatch):
     from phonglab.app import page
 
     drawn = []
     monkeypatch.setattr(page, "build_controls",
                         lambda server, chosen, all_controls=(): drawn.append([c.key for c in all_controls]))
-    app._on_control("material__ks__level", 0.3)
-    app._on_control("lights_1__azimuth", 20.0)
+    without_a_loop(app._on_control, "material__ks__level", 0.3)
+    without_a_loop(app._on_control, "lights_1__azimuth", 20.0)
+    assert app.scene.material.ks == pytest.approx((0.3,) * 3), app.state.notice
+    assert app.state.material__ks__level == pytest.approx(0.3), app.state.notice
+    assert app.state.lights_1__azimuth == pytest.approx(20), app.state.notice
     assert drawn == [], "a new value redrew the controls panel"
-    assert app.state.material__ks__level == pytest.approx(0.3) and app.state.lights_1__azimuth == pytest.approx(20)
-    app._on_control("lights_1__type", "directional")
+    without_a_loop(app._on_control, "lights_1__type", "directional")
     assert len(drawn) == 1, f"a point light turned directional redrew the panel {len(drawn)} times"
     assert "lights_1__elevation" in drawn[0] and "lights_1__distance" not in drawn[0], drawn[0]
 
