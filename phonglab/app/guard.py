@@ -1,0 +1,179 @@
+"""Who may reach the session server, and how fast: origins, hosts, a per-tab call budget.
+
+A web page on any site can open a WebSocket to ``ws://127.0.0.1:8080/ws``;
+the browser then sends that site's origin in the ``Origin`` header. The
+server answers its launcher (``POST /paraview/``, where the page learns the
+session secret) and opens ``/ws`` only when :meth:`OriginPolicy.refusal`
+finds nothing wrong:
+
+- ``Origin`` is the page's own origin, ``scheme://Host`` of the request, or
+  one of the origins given with ``serve --allow-origin`` (a deployment
+  behind a proxy, whose public address differs);
+- ``Host`` names this server: an IP address, ``localhost``, this machine's
+  name, or the host of an allowed origin. A page on another site whose name
+  was made to point at this machine (DNS rebinding) sends its own name as
+  ``Host`` and is refused.
+
+:class:`TokenBucket` spaces one tab's calls so that a flood from one
+connection leaves the event loop to the other tabs.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import ipaddress
+import socket
+import time
+from urllib.parse import urlsplit
+
+#: sessions (tabs) open at once, unless told otherwise
+DEFAULT_MAX_SESSIONS = 60
+#: calls one connection may make per second, sustained
+CALLS_PER_SECOND = 100.0
+#: calls one connection may make at once after a pause
+CALL_BURST = 200.0
+
+
+class OriginPolicy:
+    """The origins and host names the server answers to.
+
+    Parameters
+    ----------
+    allow_origins : iterable of str
+        Extra origins (``https://phong.school.org``), each ``scheme://host[:port]``.
+
+    Raises
+    ------
+    ValueError
+        For an allowed origin that is not ``http(s)://host[:port]``.
+    """
+
+    def __init__(self, allow_origins=()):
+        self.origins = frozenset(normal_origin(origin) for origin in allow_origins)
+        names = {"localhost", socket.gethostname().lower(), socket.getfqdn().lower()}
+        names |= {f"{name}.local" for name in list(names) if "." not in name}
+        names |= {urlsplit(origin).hostname for origin in self.origins}
+        self.host_names = frozenset(names)
+
+    def refusal(self, request) -> str | None:
+        """Why ``request`` (an aiohttp request) is refused, or None when it may go on."""
+        host = (request.host or "").lower()
+        if not self._host_allowed(host):
+            return f"Host {host[:100]!r} does not name this server"
+        origin = request.headers.get("Origin")
+        if origin is None:
+            return "no Origin header"
+        try:
+            origin = normal_origin(origin)
+        except ValueError:
+            return f"Origin {origin[:100]!r} is not allowed"
+        if origin == f"{request.scheme}://{host}" or origin in self.origins:
+            return None
+        return f"Origin {origin[:100]!r} is not allowed"
+
+    def _host_allowed(self, host: str) -> bool:
+        name = urlsplit(f"//{host}").hostname if host else None
+        if not name:
+            return False
+        try:
+            ipaddress.ip_address(name)
+            return True
+        except ValueError:
+            return name in self.host_names
+
+
+def normal_origin(origin: str) -> str:
+    """``origin`` as browsers send it: lower case ``scheme://host[:port]``, default port left out.
+
+    Raises
+    ------
+    ValueError
+        When ``origin`` is not ``http(s)://host[:port]`` (``null`` included).
+    """
+    parts = urlsplit(origin.strip().rstrip("/"))
+    if parts.scheme not in ("http", "https") or not parts.hostname or parts.path or parts.query or parts.username:
+        raise ValueError(f"origin must be http(s)://host[:port], got {origin!r}")
+    host = parts.hostname.lower()
+    if ":" in host:
+        host = f"[{host}]"
+    port = parts.port  # raises ValueError for a bad port
+    default = {"http": 80, "https": 443}[parts.scheme]
+    return f"{parts.scheme}://{host}" + (f":{port}" if port not in (None, default) else "")
+
+
+class TokenBucket:
+    """A budget of ``rate`` calls per second, ``burst`` at most at once.
+
+    :meth:`take` returns at once while the budget lasts, then sleeps until a
+    call's worth has come back: the connection's messages wait in the
+    operating system's buffers, and the client is slowed down by TCP itself.
+    """
+
+    def __init__(self, rate: float = CALLS_PER_SECOND, burst: float = CALL_BURST, clock=time.monotonic):
+        self.rate = rate
+        self.burst = burst
+        self._clock = clock
+        self._tokens = burst
+        self._last = clock()
+
+    def _refill(self) -> None:
+        now = self._clock()
+        self._tokens = min(self.burst, self._tokens + (now - self._last) * self.rate)
+        self._last = now
+
+    def wait_time(self) -> float:
+        """Seconds until one call is allowed (0 when it is allowed now)."""
+        self._refill()
+        return 0.0 if self._tokens >= 1 else (1 - self._tokens) / self.rate
+
+    async def take(self) -> None:
+        """Spend one call, sleeping first if the budget is spent."""
+        delay = self.wait_time()
+        if delay > 0:
+            await asyncio.sleep(delay)
+            self._refill()
+        self._tokens -= 1
+
+
+# ---------------------------------------------------------------------------
+# the page's side
+
+#: added to the served index page: when the server closes the session's socket
+#: for a reason the student can act on (server full: 1013; refused: 1008),
+#: say so on the page instead of leaving it loading
+PAGE_SCRIPT = """<script>
+(() => {
+  const Native = window.WebSocket;
+  const show = (text) => {
+    let box = document.getElementById("phonglab-refused");
+    if (!box) {
+      box = document.createElement("div");
+      box.id = "phonglab-refused";
+      box.setAttribute("role", "alert");
+      box.style.cssText = "position:fixed;inset:0;z-index:100000;display:flex;align-items:center;"
+        + "justify-content:center;padding:2em;background:#fff;color:#222;font:20px sans-serif;text-align:center";
+      document.body.appendChild(box);
+    }
+    box.textContent = text;
+  };
+  window.WebSocket = class extends Native {
+    constructor(...args) {
+      super(...args);
+      this.addEventListener("close", (event) => {
+        if (event.code === 1013 || event.code === 1008) show(event.reason || "The server refused this page.");
+      });
+    }
+  };
+})();
+</script>
+"""
+
+
+def inject_page_script(html: str) -> str:
+    """``html`` (the trame client's index page) with :data:`PAGE_SCRIPT` first in its head."""
+    marker = "<head>"
+    at = html.find(marker)
+    if at < 0:
+        return PAGE_SCRIPT + html
+    at += len(marker)
+    return html[:at] + "\n" + PAGE_SCRIPT + html[at:]
