@@ -96,7 +96,10 @@ def normal_origin(origin: str) -> str:
     host = parts.hostname.lower()
     if ":" in host:
         host = f"[{host}]"
-    port = parts.port  # raises ValueError for a bad port
+    try:
+        port = parts.port
+    except ValueError:
+        raise ValueError(f"origin must be http(s)://host[:port] with a port up to 65535, got {origin!r}") from None
     default = {"http": 80, "https": 443}[parts.scheme]
     return f"{parts.scheme}://{host}" + (f":{port}" if port not in (None, default) else "")
 
