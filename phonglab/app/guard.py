@@ -14,7 +14,8 @@ finds nothing wrong:
   was made to point at this machine (DNS rebinding) sends its own name as
   ``Host`` and is refused.
 
-:class:`TokenBucket` spaces one tab's calls so that a flood from one
+:class:`CallBudget` spaces one tab's calls (a count per second and a share
+of the server's time, each a :class:`TokenBucket`) so that a flood from one
 connection leaves the event loop to the other tabs.
 """
 
@@ -32,6 +33,10 @@ DEFAULT_MAX_SESSIONS = 60
 CALLS_PER_SECOND = 100.0
 #: calls one connection may make at once after a pause
 CALL_BURST = 200.0
+#: the share of the server's time one connection's calls may take, sustained
+SERVER_SHARE = 0.15
+#: seconds of server time one connection may take at once after a pause
+SERVER_BURST_SECONDS = 2.0
 
 
 class OriginPolicy:
@@ -105,11 +110,13 @@ def normal_origin(origin: str) -> str:
 
 
 class TokenBucket:
-    """A budget of ``rate`` calls per second, ``burst`` at most at once.
+    """A budget refilled at ``rate`` per second, holding ``burst`` at most.
 
-    :meth:`take` returns at once while the budget lasts, then sleeps until a
-    call's worth has come back: the connection's messages wait in the
-    operating system's buffers, and the client is slowed down by TCP itself.
+    :meth:`take` returns at once while the budget lasts, then sleeps until
+    enough has come back: the connection's messages wait in the operating
+    system's buffers, and the client is slowed down by TCP itself.
+    :meth:`spend` may take the budget below zero (a call that took longer
+    than its share); the next :meth:`take` then waits for the debt.
     """
 
     def __init__(self, rate: float = CALLS_PER_SECOND, burst: float = CALL_BURST, clock=time.monotonic):
@@ -124,18 +131,46 @@ class TokenBucket:
         self._tokens = min(self.burst, self._tokens + (now - self._last) * self.rate)
         self._last = now
 
-    def wait_time(self) -> float:
-        """Seconds until one call is allowed (0 when it is allowed now)."""
+    def wait_time(self, need: float = 1.0) -> float:
+        """Seconds until the budget holds ``need`` (0 when it does now)."""
         self._refill()
-        return 0.0 if self._tokens >= 1 else (1 - self._tokens) / self.rate
+        return max(0.0, (need - self._tokens) / self.rate)
 
-    async def take(self) -> None:
-        """Spend one call, sleeping first if the budget is spent."""
-        delay = self.wait_time()
+    def spend(self, amount: float) -> None:
+        """Take ``amount`` from the budget, below zero if need be."""
+        self._refill()
+        self._tokens -= amount
+
+    async def take(self, need: float = 1.0) -> None:
+        """Wait until the budget holds ``need``, then spend it."""
+        delay = self.wait_time(need)
         if delay > 0:
             await asyncio.sleep(delay)
-            self._refill()
-        self._tokens -= 1
+        self.spend(need)
+
+
+class CallBudget:
+    """One connection's pace: :data:`CALLS_PER_SECOND` calls and :data:`SERVER_SHARE` of the server's time.
+
+    The server's time is what the calls took from sending to the app to its
+    reply (one call runs at a time per connection). A flood of calls that
+    each re-shade a scene is thus held to a quarter of the server, however
+    cheap or dear each call is, and a slider drag of a second or so goes at
+    full speed on the burst.
+    """
+
+    def __init__(self, clock=time.monotonic):
+        self.calls = TokenBucket(CALLS_PER_SECOND, CALL_BURST, clock)
+        self.time = TokenBucket(SERVER_SHARE, SERVER_BURST_SECONDS, clock)
+
+    async def take(self) -> None:
+        """Wait for the next call's turn."""
+        await self.calls.take()
+        await self.time.take(0.0)
+
+    def spent(self, seconds: float) -> None:
+        """Record that a call kept the server busy for ``seconds``."""
+        self.time.spend(seconds)
 
 
 # ---------------------------------------------------------------------------

@@ -17,7 +17,7 @@ checks them on the way (:mod:`phonglab.app.guard`, :mod:`phonglab.app.protocol`)
    1013, "try again later", and the page says the server is full);
 3. every later message is reassembled within :data:`~phonglab.app.protocol.MAX_MESSAGE_BYTES`,
    must call an RPC method the page uses, with sane arguments, and is paced
-   by a per-connection budget (:class:`~phonglab.app.guard.TokenBucket`);
+   by a per-connection budget (:class:`~phonglab.app.guard.CallBudget`);
 4. the app's error replies reach the browser without their traceback.
 
 The server binds 127.0.0.1 unless told otherwise.
@@ -219,7 +219,8 @@ class SessionServer:
             # the app's connection is in this process: log it in with the app's own secret
             await connection.send(True, _Frame(protocol.hello(app.server.protocol.secret)))
             chunks = protocol.Assembler()
-            budget = guard.TokenBucket()
+            budget = guard.CallBudget()
+            clock = asyncio.get_running_loop().time
             async for message in socket:
                 if message.type == aiohttp.WSMsgType.BINARY:
                     await budget.take()
@@ -234,7 +235,9 @@ class SessionServer:
                         continue
                     log.debug("session %s: %s", name, rpc["method"])
                     single = len(whole) + protocol.HEADER.size == len(message.data)
+                    started = clock()
                     await connection.send(True, _Frame(message.data if single else protocol.chunk(whole)))
+                    budget.spent(clock() - started)
                 elif message.type == aiohttp.WSMsgType.TEXT:
                     raise protocol.ProtocolError("text message; wslink speaks binary")
                 elif message.type == aiohttp.WSMsgType.ERROR:
