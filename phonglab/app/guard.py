@@ -37,6 +37,8 @@ CALL_BURST = 200.0
 SERVER_SHARE = 0.15
 #: seconds of server time one connection may take at once after a pause
 SERVER_BURST_SECONDS = 2.0
+#: the longest a connection waits for its share after one long call, in seconds
+MAX_SHARE_WAIT = 1.0
 
 
 class OriginPolicy:
@@ -116,12 +118,15 @@ class TokenBucket:
     enough has come back: the connection's messages wait in the operating
     system's buffers, and the client is slowed down by TCP itself.
     :meth:`spend` may take the budget below zero (a call that took longer
-    than its share); the next :meth:`take` then waits for the debt.
+    than its share), down to ``floor``; the next :meth:`take` then waits for
+    the debt.
     """
 
-    def __init__(self, rate: float = CALLS_PER_SECOND, burst: float = CALL_BURST, clock=time.monotonic):
+    def __init__(self, rate: float = CALLS_PER_SECOND, burst: float = CALL_BURST, clock=time.monotonic,
+                 *, floor: float = float("-inf")):
         self.rate = rate
         self.burst = burst
+        self.floor = floor
         self._clock = clock
         self._tokens = burst
         self._last = clock()
@@ -137,9 +142,9 @@ class TokenBucket:
         return max(0.0, (need - self._tokens) / self.rate)
 
     def spend(self, amount: float) -> None:
-        """Take ``amount`` from the budget, below zero if need be."""
+        """Take ``amount`` from the budget, below zero if need be (not below ``floor``)."""
         self._refill()
-        self._tokens -= amount
+        self._tokens = max(self.floor, self._tokens - amount)
 
     async def take(self, need: float = 1.0) -> None:
         """Wait until the budget holds ``need``, then spend it."""
@@ -150,27 +155,39 @@ class TokenBucket:
 
 
 class CallBudget:
-    """One connection's pace: :data:`CALLS_PER_SECOND` calls and :data:`SERVER_SHARE` of the server's time.
+    """One connection's pace: :data:`CALLS_PER_SECOND` calls, and :data:`SERVER_SHARE` of the server's time.
 
     The server's time is what the calls took from sending to the app to its
-    reply (one call runs at a time per connection). A flood of calls that
-    each re-shade a scene is thus held to a quarter of the server, however
-    cheap or dear each call is, and a slider drag of a second or so goes at
-    full speed on the burst.
+    reply (one call runs at a time per connection). It is counted only while
+    ``crowded()`` says other sessions are open: a lone tab's per-pixel
+    shading goes at full speed, while among several tabs a flood of calls
+    that each re-shade a scene is held to its share, however cheap or dear
+    each call is. A slider drag of a few seconds goes at full speed on the
+    burst either way.
+
+    Parameters
+    ----------
+    crowded : callable
+        ``crowded() -> bool``: True while other sessions share the server.
     """
 
-    def __init__(self, clock=time.monotonic):
+    def __init__(self, crowded=lambda: True, clock=time.monotonic):
+        self.crowded = crowded
         self.calls = TokenBucket(CALLS_PER_SECOND, CALL_BURST, clock)
-        self.time = TokenBucket(SERVER_SHARE, SERVER_BURST_SECONDS, clock)
+        # one long call (opening a lesson) costs a wait of MAX_SHARE_WAIT at most;
+        # a stream of calls is held to the share
+        self.time = TokenBucket(SERVER_SHARE, SERVER_BURST_SECONDS, clock, floor=-SERVER_SHARE * MAX_SHARE_WAIT)
 
     async def take(self) -> None:
         """Wait for the next call's turn."""
         await self.calls.take()
-        await self.time.take(0.0)
+        if self.crowded():
+            await self.time.take(0.0)
 
     def spent(self, seconds: float) -> None:
         """Record that a call kept the server busy for ``seconds``."""
-        self.time.spend(seconds)
+        if self.crowded():
+            self.time.spend(seconds)
 
 
 # ---------------------------------------------------------------------------

@@ -175,7 +175,7 @@ class SessionServer:
         if not secrets.compare_digest(secret.encode(), self.secret.encode()):
             log.warning("session %s: wrong secret; closing", name)
             await socket.send_bytes(protocol.error_reply(rpc_id, protocol.AUTHENTICATION_ERROR, "Authentication failed"))
-            await socket.close(code=aiohttp.WSCloseCode.POLICY_VIOLATION, message=b"authentication failed")
+            await socket.close(code=aiohttp.WSCloseCode.POLICY_VIOLATION, message=b"Authentication failed: reload the page.")
             return False
         if self._admitted >= self.max_sessions:
             full = FULL_MESSAGE.format(n=self.max_sessions)
@@ -219,7 +219,7 @@ class SessionServer:
             # the app's connection is in this process: log it in with the app's own secret
             await connection.send(True, _Frame(protocol.hello(app.server.protocol.secret)))
             chunks = protocol.Assembler()
-            budget = guard.CallBudget()
+            budget = guard.CallBudget(crowded=lambda: self._admitted > 1)
             clock = asyncio.get_running_loop().time
             async for message in socket:
                 if message.type == aiohttp.WSMsgType.BINARY:
