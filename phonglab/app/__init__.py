@@ -41,7 +41,8 @@ def make_app(target, *, export_dir="phonglab-exports"):
     return build
 
 
-def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phonglab-exports", on_ready=None) -> None:
+def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phonglab-exports", on_ready=None,
+          allow_origins=(), max_sessions: int | None = None) -> None:
     """Serve the lessons at ``target`` until interrupted.
 
     Parameters
@@ -54,13 +55,18 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phon
         Where the export button writes figures.
     on_ready : callable, optional
         Called with the bound port once the server accepts connections.
+    allow_origins : iterable of str
+        Origins allowed besides the page's own (a proxy's public address).
+    max_sessions : int, optional
+        Tabs served at once (:data:`~phonglab.app.guard.DEFAULT_MAX_SESSIONS` by default).
     """
     from phonglab.app import accuracy_panel
     from phonglab.app.server import SessionServer
 
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     try:
-        server = SessionServer(make_app(target, export_dir=export_dir))
+        limits = {} if max_sessions is None else {"max_sessions": max_sessions}
+        server = SessionServer(make_app(target, export_dir=export_dir), allow_origins=allow_origins, **limits)
         asyncio.run(server.run(host, port, on_ready=on_ready))
     finally:
         # the accuracy lesson's worker processes, if any were started

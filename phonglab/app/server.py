@@ -1,10 +1,24 @@
-"""One web server, one trame session per browser tab.
+"""One web server, one trame session per browser tab, and the guard in front of them.
 
 A trame server keeps a single shared state: every browser connected to it
 sees and moves the same sliders. :class:`SessionServer` gives each WebSocket
 connection (each tab) its own trame application instead, the way trame's
 ``trame.tools.serve`` does: the page's static files are served once, and a
 fresh app is built for every ``/ws`` connection and torn down when it closes.
+
+Between the browser and its app the server relays wslink messages, and
+checks them on the way (:mod:`phonglab.app.guard`, :mod:`phonglab.app.protocol`):
+
+1. ``/ws`` and the launcher ``POST /paraview/`` answer only the page's own
+   origin and the ``--allow-origin`` list (HTTP 403 otherwise);
+2. the first message must be a hello carrying this server's random secret,
+   which only the launcher hands out; the app is built after it, and only
+   while fewer than ``max_sessions`` are open (else the socket closes with
+   1013, "try again later", and the page says the server is full);
+3. every later message is reassembled within :data:`~phonglab.app.protocol.MAX_MESSAGE_BYTES`,
+   must call an RPC method the page uses, with sane arguments, and is paced
+   by a per-connection budget (:class:`~phonglab.app.guard.CallBudget`);
+4. the app's error replies reach the browser without their traceback.
 
 The server binds 127.0.0.1 unless told otherwise.
 """
@@ -14,19 +28,34 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import secrets
 import signal
 import uuid
+from pathlib import Path
 from typing import Callable
 
 import aiohttp
 from aiohttp import web
 
+from phonglab.app import guard, protocol
+
 log = logging.getLogger(__name__)
 
-#: the largest WebSocket message accepted from a browser, in bytes
-MAX_MESSAGE_BYTES = 10_000_000
 #: seconds between WebSocket pings
 HEARTBEAT_SECONDS = 30
+#: seconds a new connection has to send its hello
+HELLO_SECONDS = 10
+#: what a tab sees when the server already has its sessions
+FULL_MESSAGE = "The server is full ({n} sessions open): try again later."
+
+
+class _Frame:
+    """A binary WebSocket message as wslink's generic connection reads it (``.data``)."""
+
+    __slots__ = ("data",)
+
+    def __init__(self, data: bytes):
+        self.data = data
 
 
 class SessionServer:
@@ -37,19 +66,34 @@ class SessionServer:
     make_app : callable
         ``make_app(name) -> TrameApp``: builds one app on a trame server called
         ``name``. It is called once with ``"__www__"`` to learn the static
-        routes the page needs, then once per connection.
+        routes the page needs, then once per authenticated connection.
     on_session : callable, optional
         Called with ``(event, name)`` for ``"open"`` and ``"close"`` (logging, tests).
+    max_sessions : int
+        Sessions open at once; a tab past this number is told the server is full.
+    allow_origins : iterable of str
+        Origins allowed besides the page's own (``https://phong.school.org``
+        when a proxy serves the app under another address).
+    secret : str, optional
+        The session secret; a random one (``secrets.token_urlsafe``) by default.
     """
 
-    def __init__(self, make_app: Callable, *, on_session: Callable | None = None):
+    def __init__(self, make_app: Callable, *, on_session: Callable | None = None,
+                 max_sessions: int = guard.DEFAULT_MAX_SESSIONS, allow_origins=(), secret: str | None = None):
+        if max_sessions < 1:
+            raise ValueError(f"max_sessions must be at least 1, got {max_sessions}")
         self._make_app = make_app
         self._on_session = on_session
         self._stopped = None
+        self.max_sessions = max_sessions
+        self.origins = guard.OriginPolicy(allow_origins)
+        self.secret = secret or secrets.token_urlsafe(32)
         self.sessions: dict[str, object] = {}
+        self._admitted = 0  # sessions open or being built
         self._sockets: set = set()
         self.web_app = web.Application()
         self.web_app.router.add_get("/", self._index)
+        self.web_app.router.add_get("/index.html", self._page)
         self.web_app.router.add_post("/paraview/", self._launcher)
         self.web_app.router.add_get("/ws", self._websocket)
         # static files: the trame client, then every module the app enables
@@ -62,6 +106,7 @@ class SessionServer:
             routes.append(web.static(f"/{prefix}", directory, append_version=True))
         routes.append(web.static("/", www._www, append_version=True))
         self.web_app.add_routes(routes)
+        self._page_html = guard.inject_page_script((Path(www._www) / "index.html").read_text(encoding="utf-8"))
 
     # ------------------------------------------------------------------
     # HTTP handlers
@@ -70,17 +115,78 @@ class SessionServer:
         query = f"?{request.query_string}" if request.query_string else ""
         raise web.HTTPFound(f"index.html{query}")
 
+    async def _page(self, request: web.Request):
+        return web.Response(text=self._page_html, content_type="text/html",
+                            headers={"Cache-Control": "no-cache, no-store, must-revalidate"})
+
     async def _launcher(self, request: web.Request):
-        # the trame client first asks a launcher where its session lives; answer
-        # directly with this server's WebSocket endpoint
-        scheme = "wss" if request.secure else "ws"
-        return web.json_response({"sessionURL": f"{scheme}://{request.host}/ws"})
+        # the trame client first asks a launcher where its session lives and
+        # takes the secret from the answer; only this server's own page may ask.
+        # USE_HOST is replaced by the page's own host in the browser: nothing
+        # from the request is echoed back
+        self._check_origin(request)
+        scheme = "wss" if request.headers["Origin"].lower().startswith("https:") else "ws"
+        return web.json_response({"sessionURL": f"{scheme}://USE_HOST/ws", "secret": self.secret},
+                                 headers={"Cache-Control": "no-store"})
+
+    def _check_origin(self, request: web.Request) -> None:
+        refusal = self.origins.refusal(request)
+        if refusal is not None:
+            log.warning("refused %s %s from %s: %s", request.method, request.path, request.remote, refusal)
+            raise web.HTTPForbidden(text=f"{refusal}\n")
+
+    # ------------------------------------------------------------------
+    # the WebSocket: hello, admission, relay
 
     async def _websocket(self, request: web.Request):
+        self._check_origin(request)
         name = "s" + uuid.uuid4().hex
-        socket = web.WebSocketResponse(max_msg_size=MAX_MESSAGE_BYTES, heartbeat=HEARTBEAT_SECONDS)
+        socket = web.WebSocketResponse(max_msg_size=protocol.MAX_FRAME_BYTES, heartbeat=HEARTBEAT_SECONDS)
         await socket.prepare(request)
         self._sockets.add(socket)
+        try:
+            if await self._admit(name, socket):
+                self._admitted += 1
+                try:
+                    await self._relay(name, socket)
+                finally:
+                    self._admitted -= 1
+        except protocol.ProtocolError as exc:
+            log.warning("session %s from %s: %s; closing", name, request.remote, exc)
+            await socket.close(code=aiohttp.WSCloseCode.POLICY_VIOLATION, message=str(exc)[:120].encode())
+        except Exception:  # a broken session must not take the server down
+            log.exception("session %s failed", name)
+        finally:
+            self._sockets.discard(socket)
+        return socket
+
+    async def _admit(self, name: str, socket: web.WebSocketResponse) -> bool:
+        """Wait for the hello; True when its secret is right and there is room for one more session."""
+        try:
+            first = await socket.receive(timeout=HELLO_SECONDS)
+        except asyncio.TimeoutError:
+            raise protocol.ProtocolError(f"no hello within {HELLO_SECONDS} s") from None
+        if first.type != aiohttp.WSMsgType.BINARY:
+            if first.type in (aiohttp.WSMsgType.CLOSE, aiohttp.WSMsgType.CLOSING, aiohttp.WSMsgType.CLOSED):
+                return False
+            raise protocol.ProtocolError(f"first message is {first.type.name}, not a binary hello")
+        secret, rpc_id = protocol.hello_secret(first.data)
+        rpc_id = rpc_id if isinstance(rpc_id, str) else protocol.HELLO_ID
+        if not secrets.compare_digest(secret.encode(), self.secret.encode()):
+            log.warning("session %s: wrong secret; closing", name)
+            await socket.send_bytes(protocol.error_reply(rpc_id, protocol.AUTHENTICATION_ERROR, "Authentication failed"))
+            await socket.close(code=aiohttp.WSCloseCode.POLICY_VIOLATION, message=b"Authentication failed: reload the page.")
+            return False
+        if self._admitted >= self.max_sessions:
+            full = FULL_MESSAGE.format(n=self.max_sessions)
+            log.warning("session %s refused: %s", name, full)
+            await socket.send_bytes(protocol.error_reply(rpc_id, protocol.EXCEPTION_ERROR, full))
+            await socket.close(code=aiohttp.WSCloseCode.TRY_AGAIN_LATER, message=full.encode()[:120])
+            return False
+        return True
+
+    async def _relay(self, name: str, socket: web.WebSocketResponse) -> None:
+        """Build this tab's app and relay its messages both ways until the socket closes."""
         app = task = connection = None
         try:
             # build this tab's app and start its trame server without a network
@@ -97,28 +203,47 @@ class SessionServer:
             )
             await app.server.ready
             connection = await app.server._server.ws.connect()
+            replies = protocol.ReplyFilter(name)
 
             async def to_browser(binary, content):
                 if socket.closed:
                     return
                 if binary:
-                    await socket.send_bytes(content)
+                    content = replies.clean(content)
+                    if content is not None:
+                        await socket.send_bytes(content)
                 else:
                     await socket.send_str(content)
 
             connection.on_message(to_browser)
-            # relay the browser's messages to this session
+            # the app's connection is in this process: log it in with the app's own secret
+            await connection.send(True, _Frame(protocol.hello(app.server.protocol.secret)))
+            chunks = protocol.Assembler()
+            budget = guard.CallBudget(crowded=lambda: self._admitted > 1)
+            clock = asyncio.get_running_loop().time
             async for message in socket:
-                if message.type in (aiohttp.WSMsgType.BINARY, aiohttp.WSMsgType.TEXT):
-                    await connection.send(message.type == aiohttp.WSMsgType.BINARY, message)
+                if message.type == aiohttp.WSMsgType.BINARY:
+                    await budget.take()
+                    whole = chunks.feed(message.data)
+                    if whole is None:
+                        continue
+                    rpc = protocol.unpack(whole)
+                    refusal = protocol.check_call(rpc)
+                    if refusal is not None:
+                        log.info("session %s: refused %s: %s", name, rpc["method"][:80], refusal[1])
+                        await socket.send_bytes(protocol.error_reply(rpc.get("id"), *refusal))
+                        continue
+                    log.debug("session %s: %s", name, rpc["method"])
+                    single = len(whole) + protocol.HEADER.size == len(message.data)
+                    started = clock()
+                    await connection.send(True, _Frame(message.data if single else protocol.chunk(whole)))
+                    budget.spent(clock() - started)
+                elif message.type == aiohttp.WSMsgType.TEXT:
+                    raise protocol.ProtocolError("text message; wslink speaks binary")
                 elif message.type == aiohttp.WSMsgType.ERROR:
                     break
-        except Exception:  # a broken session must not take the server down
-            log.exception("session %s failed", name)
         finally:
-            self._sockets.discard(socket)
             await self._close_session(name, app, task, connection)
-        return socket
 
     async def _close_session(self, name, app, task, connection) -> None:
         try:

@@ -6,14 +6,19 @@ first lesson of ``lessons/`` opens. Every browser tab gets its own session.
 The server listens on 127.0.0.1 (this machine only) unless ``--host`` says
 otherwise; stop it with Ctrl-C.
 
-Exit status: 0 after a clean stop, 2 for a lesson that does not exist or a
-port that cannot be used.
+Only the page this server serves may open a session (its own origin, or
+one given with ``--allow-origin`` when a proxy serves it under another
+address); at most ``--max-sessions`` tabs are open at once.
+
+Exit status: 0 after a clean stop, 2 for a lesson that does not exist or an
+address or port that cannot be used.
 """
 
 from __future__ import annotations
 
 import errno
 import ipaddress
+import socket
 import sys
 from pathlib import Path
 
@@ -22,6 +27,8 @@ DEFAULT_FOLDER = "lessons"
 
 
 def add_parser(subparsers):
+    from phonglab.app.guard import DEFAULT_MAX_SESSIONS
+
     parser = subparsers.add_parser(
         "serve",
         help="open the lesson app in a browser",
@@ -33,7 +40,36 @@ def add_parser(subparsers):
     parser.add_argument("--port", type=_port, default=8080, help="port to listen on (default 8080; 0 picks a free one)")
     parser.add_argument("--export-dir", default="phonglab-exports", metavar="DIR",
                         help="where the page's export button saves figures (default phonglab-exports/)")
+    parser.add_argument("--allow-origin", action="append", default=[], type=_origin, metavar="ORIGIN",
+                        help="also accept pages from ORIGIN (scheme://host[:port], e.g. https://phong.school.org "
+                             "behind a proxy); repeatable. The page's own address is always accepted")
+    parser.add_argument("--max-sessions", type=_max_sessions, default=DEFAULT_MAX_SESSIONS, metavar="N",
+                        help=f"browser tabs served at once (default {DEFAULT_MAX_SESSIONS}); "
+                             "one more is told the server is full")
     return parser
+
+
+def _origin(text: str) -> str:
+    import argparse
+
+    from phonglab.app.guard import normal_origin
+
+    try:
+        return normal_origin(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _max_sessions(text: str) -> int:
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a whole number of at least 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a whole number of at least 1, got {value}")
+    return value
 
 
 def _port(text: str) -> int:
@@ -92,6 +128,10 @@ def run(args) -> int:
 
     target = resolve_target(args.lesson)
     host = args.host
+    try:  # a name or address that does not resolve: say so before building anything
+        socket.getaddrinfo(host, args.port, type=socket.SOCK_STREAM)
+    except (socket.gaierror, UnicodeError) as exc:
+        raise UsageError(f"cannot listen on {host}:{args.port}: {getattr(exc, 'strerror', None) or exc}") from None
     if not _is_loopback(host):
         print(f"phonglab serve: warning: listening on {host}: other machines can reach this server",
               file=sys.stderr)
@@ -103,7 +143,10 @@ def run(args) -> int:
     from phonglab.app import serve
 
     try:
-        serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready)
+        serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready,
+              allow_origins=args.allow_origin, max_sessions=args.max_sessions)
+    except socket.gaierror as exc:  # a host name or address that does not resolve
+        raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror or exc}") from None
     except OSError as exc:
         if exc.errno in (errno.EADDRINUSE, errno.EACCES, errno.EADDRNOTAVAIL):
             raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror}") from None
