@@ -130,7 +130,7 @@ def test_bad_claims_are_reported_with_file_and_line(tmp_path, check, experiment,
         load_lesson(path)
     shown = [str(e) for e in info.value.errors]
     assert any(f":{line}: {field}" in s for s in shown), shown
-    out = subprocess.run([sys.executable, "-m", "phonglab", "check", str(path)], capture_output=True, text=True,
+    out = subprocess.run([sys.executable, "-m", "phonglab.cli", "check", str(path)], capture_output=True, text=True,
                          cwd=ROOT)
     assert out.returncode == 1 and field in out.stdout, out.stdout + out.stderr
 
