@@ -157,6 +157,10 @@ def _peak(scene, term: str, channel: str = "max") -> float:
     return float(_channel(getattr(_picture(scene).shading, term), channel).max())
 
 
+def _low(scene, term: str, channel: str = "max") -> float:
+    return float(_channel(getattr(_picture(scene).shading, term), channel).min())
+
+
 def _mean(scene, term: str, channel: str = "max") -> float:
     return float(_channel(getattr(_picture(scene).shading, term), channel).mean())
 
@@ -223,6 +227,7 @@ FUNCTIONS = {
     "acosd": (False, lambda x: math.degrees(math.acos(x))),
     "probe": (True, _probe_value),
     "peak": (True, _peak),
+    "low": (True, _low),
     "mean": (True, _mean),
     "lit_fraction": (True, _lit_fraction),
     "vertices": (True, _vertices),

@@ -156,6 +156,7 @@ CLAIM_FUNCTIONS = {
               "a value at the lesson's probe point for the first directed light (colours: channel r, g, b or "
               "the largest, max)"),
     "peak": ((IMAGE_TERMS, CHANNELS + ("?",)), "the largest value of a term over the picture as the page shades it"),
+    "low": ((IMAGE_TERMS, CHANNELS + ("?",)), "the smallest value of a term over the picture"),
     "mean": ((IMAGE_TERMS, CHANNELS + ("?",)), "the mean of a term over the pixels the surface covers"),
     "lit_fraction": ((), "the fraction of the covered pixels a directed light reaches (diffuse > 0)"),
     "vertices": (("number?",), "the mesh's vertex count (at a given resolution, if one is given)"),
