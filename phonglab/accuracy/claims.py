@@ -75,6 +75,7 @@ class ClaimResult:
 class _Picture:
     shading: core.Shading  # per covered pixel
     lit: np.ndarray  # per covered pixel: a directed light reaches it
+    mask: np.ndarray  # (height, width): the pixels the surface covers
 
 
 def _mesh(scene):
@@ -120,7 +121,7 @@ def _picture(scene) -> _Picture:
     else:  # per pixel: normals blended, renormalised by the core
         shading = _shade(scene, blend(points), blend(normals))
     lit = shading.diffuse.max(axis=-1) > 0
-    return _Picture(shading=shading, lit=lit)
+    return _Picture(shading=shading, lit=lit, mask=hits.mask)
 
 
 _TERMS = ("ambient", "diffuse", "specular", "emission", "color")
@@ -163,6 +164,18 @@ def _low(scene, term: str, channel: str = "max") -> float:
 
 def _mean(scene, term: str, channel: str = "max") -> float:
     return float(_channel(getattr(_picture(scene).shading, term), channel).mean())
+
+
+def _stretch(scene) -> float:
+    picture = _picture(scene)
+    specular = picture.shading.specular.max(axis=-1)
+    rows, cols = np.nonzero(picture.mask)
+    bright = specular >= 0.5 * specular.max()
+    if specular.max() <= 0:
+        raise ValueError("stretch(): the picture has no highlight")
+    height = rows[bright].max() - rows[bright].min() + 1
+    width = cols[bright].max() - cols[bright].min() + 1
+    return float(height / width)
 
 
 def _lit_fraction(scene) -> float:
@@ -229,6 +242,7 @@ FUNCTIONS = {
     "peak": (True, _peak),
     "low": (True, _low),
     "mean": (True, _mean),
+    "stretch": (True, _stretch),
     "lit_fraction": (True, _lit_fraction),
     "vertices": (True, _vertices),
     "lit_cap": (True, _lit_cap),

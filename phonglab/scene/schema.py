@@ -158,6 +158,8 @@ CLAIM_FUNCTIONS = {
     "peak": ((IMAGE_TERMS, CHANNELS + ("?",)), "the largest value of a term over the picture as the page shades it"),
     "low": ((IMAGE_TERMS, CHANNELS + ("?",)), "the smallest value of a term over the picture"),
     "mean": ((IMAGE_TERMS, CHANNELS + ("?",)), "the mean of a term over the pixels the surface covers"),
+    "stretch": ((), "height over width, in pixels, of the highlight: the pixels whose specular term is at least "
+                    "half its peak"),
     "lit_fraction": ((), "the fraction of the covered pixels a directed light reaches (diffuse > 0)"),
     "vertices": (("number?",), "the mesh's vertex count (at a given resolution, if one is given)"),
     "lit_cap": ((), "degrees from the first directed light's direction, seen from the object's centre, "
