@@ -178,6 +178,14 @@ def _stretch(scene) -> float:
     return float(height / width)
 
 
+def _rim(scene) -> float:
+    picture = _picture(scene)
+    diffuse = picture.shading.diffuse.max(axis=-1)[picture.lit]
+    if diffuse.size == 0:
+        raise ValueError("rim(): no directed light reaches the picture")
+    return float(diffuse.min() / diffuse.max())
+
+
 def _lit_fraction(scene) -> float:
     return float(_picture(scene).lit.mean())
 
@@ -243,6 +251,7 @@ FUNCTIONS = {
     "low": (True, _low),
     "mean": (True, _mean),
     "stretch": (True, _stretch),
+    "rim": (True, _rim),
     "lit_fraction": (True, _lit_fraction),
     "vertices": (True, _vertices),
     "lit_cap": (True, _lit_cap),

@@ -160,6 +160,8 @@ CLAIM_FUNCTIONS = {
     "mean": ((IMAGE_TERMS, CHANNELS + ("?",)), "the mean of a term over the pixels the surface covers"),
     "stretch": ((), "height over width, in pixels, of the highlight: the pixels whose specular term is at least "
                     "half its peak"),
+    "rim": ((), "the dimmest lit pixel's diffuse term over the brightest one's: what is left at the edge of the "
+                "lit region (a hard edge keeps much, a soft one nearly nothing)"),
     "lit_fraction": ((), "the fraction of the covered pixels a directed light reaches (diffuse > 0)"),
     "vertices": (("number?",), "the mesh's vertex count (at a given resolution, if one is given)"),
     "lit_cap": ((), "degrees from the first directed light's direction, seen from the object's centre, "
