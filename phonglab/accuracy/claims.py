@@ -233,6 +233,17 @@ def _area_ratio(scene) -> float:
     return float(point[0] / exact[0])
 
 
+@functools.lru_cache(maxsize=32)
+def _area_error(scene, method: str, samples: float) -> float:
+    from phonglab.accuracy.arealight import floor_points, relative_error
+
+    points, normals = floor_points(24)
+    exact = core.area_irradiance(LIGHT, points, normals, method="exact")
+    errors = [relative_error(core.area_irradiance(LIGHT, points, normals, method=method, samples=int(samples),
+                                                  seed=seed), exact) for seed in range(4)]
+    return float(np.sqrt(np.mean(np.square(errors))))
+
+
 def _degrees(f):
     return lambda x: f(math.radians(x))
 
@@ -256,6 +267,7 @@ FUNCTIONS = {
     "vertices": (True, _vertices),
     "lit_cap": (True, _lit_cap),
     "error": (True, _error),
+    "area_error": (True, _area_error),
     "area_ratio": (True, _area_ratio),
 }
 

@@ -168,6 +168,9 @@ CLAIM_FUNCTIONS = {
                     "to the farthest lit vertex (90 for a directional light on a sphere)"),
     "error": ((("flat", "gouraud", "pixel"), "number", ERROR_MEASURES),
               "an interpolation method's error against the exact sphere, at a resolution, for this scene"),
+    "area_error": ((("point", "uniform", "stratified"), "number"),
+                   "relative RMS error of a finite light's estimate against the exact form, with N samples per "
+                   "point (the accuracy study's panel and floor, RMS over 4 seeds)"),
     "area_ratio": ((), "point-light approximation over the exact area-light irradiance, directly under the "
                        "panel's centre"),
 }
