@@ -30,6 +30,41 @@ from phonglab.scene.toml_lines import KeyLines, render_key
 #: a Markdown heading line: "# Title"
 _HEADING = re.compile(r"^#\s+(.+?)\s*#*\s*$", re.MULTILINE)
 
+#: Markdown the lesson page cannot show: pattern -> (what it is, what to do instead)
+BODY_REFUSED = (
+    (re.compile(r"!\[[^\]]*\]\("), "an image", "the page does not serve image files; describe it in words or "
+                                             "show it with the lesson's scene"),
+    (re.compile(r"<\s*(script|style|iframe|img|object|embed|form|input|link|meta)\b", re.IGNORECASE),
+     "raw HTML the page does not run or show", "write it in Markdown"),
+)
+
+
+def body_problems(body: str, first_line: int) -> list[SceneError]:
+    """What in a lesson's Markdown text the page could not show, each with its file line.
+
+    Everything else the lessons use (headings of every level, paragraphs,
+    lists, tables, code, emphasis, links, ``$...$`` and ``$$...$$`` maths)
+    is rendered by the page; what it cannot render is refused here rather
+    than dropped silently.
+    """
+    found = []
+    in_code = False
+    for offset, line in enumerate(body.splitlines()):
+        if line.lstrip().startswith("```"):
+            in_code = not in_code
+        if in_code or line.startswith("    "):
+            continue  # code is shown as written
+        for pattern, what, instead in BODY_REFUSED:
+            match = pattern.search(line)
+            if match:
+                found.append(SceneError(f"{what} cannot be shown in the lesson text", field="text",
+                                        value=line.strip()[:60], hint=instead, line=first_line + offset))
+    text = re.sub(r"```.*?```", "", body, flags=re.DOTALL)
+    if len(re.findall(r"(?<!\\)\$\$", text)) % 2:
+        found.append(SceneError("a display formula opened with $$ is never closed", field="text",
+                                hint="close it with $$, or write \\$ for a dollar sign", line=first_line))
+    return found
+
 
 def split_front_matter(text: str, shown: str) -> tuple[str, str, int]:
     """Split a lesson into (front matter TOML, Markdown body, line of the front matter's first line).
@@ -96,6 +131,8 @@ def _read_lesson(path) -> _Reading:
         reading.errors = list(exc.errors)
         return reading
     problems = Problems()
+    for error in body_problems(body, first + len(front.splitlines()) + 1):
+        problems.add(error)
     parts = scene_parts(data, problems, extra_keys=LESSON_KEYS, base_dir=Path(path).resolve().parent)
     scene = Scene(source=os.fspath(path), **parts) if parts is not None else None
 
