@@ -185,7 +185,7 @@ class LessonApp(TrameApp):
         s.lesson_errors = []
         lesson = entry.lesson
         s.lesson_goal_html = text.inline(lesson.goal) if lesson and lesson.goal else ""
-        s.lesson_html = text.render_markdown(text.strip_title(lesson.body)) if lesson else ""
+        s.lesson_html = text.render_markdown(text.strip_title(lesson.body, lesson.title)) if lesson else ""
         s.experiments = [
             {"index": i, "label": text.inline(x.label), "text": text.inline(x.text) if x.text else ""}
             for i, x in enumerate(lesson.experiments)

@@ -86,9 +86,17 @@ def inline(text: str) -> str:
     return html_text
 
 
-def strip_title(body: str) -> str:
-    """The lesson body without its first ``#`` heading (the page shows the title itself)."""
+def strip_title(body: str, title: str | None = None) -> str:
+    """The lesson body without the ``#`` heading that is its title (the page shows the title itself).
+
+    With ``title`` given, the body's first line is dropped only when it is a
+    ``#`` heading with exactly that text; any other heading stays and is
+    rendered, so no heading is lost. Without ``title`` the first line is
+    dropped when it is a ``#`` heading (the title the lesson took from it).
+    """
     lines = body.lstrip("\n").splitlines()
     if lines and lines[0].startswith("# "):
-        lines = lines[1:]
+        heading = lines[0][2:].strip().rstrip("#").strip()
+        if title is None or heading == title.strip():
+            lines = lines[1:]
     return "\n".join(lines)

@@ -30,6 +30,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "plan": ("phonglab.cli.plan", "show which effects a scene computes and skips"),
     "bench": ("phonglab.cli.bench", "measure speed and accuracy (ratios, same run)"),
     "grade": ("phonglab.cli.grade", "grade a student's shade() for one point against the core"),
+    "new": ("phonglab.cli.new", "write a minimal lesson to start from (phonglab new lesson FILE)"),
 }
 
 

@@ -23,11 +23,47 @@ from phonglab.scene.errors import SceneError, SceneErrors, join_path
 from phonglab.scene.fieldpath import check_path_shape, field_value
 from phonglab.scene.loader import display, lesson_files, load_scene, parse_toml, read_text
 from phonglab.scene.model import Experiment, Lesson, Scene
-from phonglab.scene.schema import EXPERIMENT_KEYS, LESSON_KEYS
+from phonglab.scene.schema import CLAIM_KEYS, CLAIM_REQUIRED, EXPERIMENT_KEYS, LESSON_KEYS
+from phonglab.scene.claims import Claim, parse_check
 from phonglab.scene.toml_lines import KeyLines, render_key
 
 #: a Markdown heading line: "# Title"
 _HEADING = re.compile(r"^#\s+(.+?)\s*#*\s*$", re.MULTILINE)
+
+#: Markdown the lesson page cannot show: pattern -> (what it is, what to do instead)
+BODY_REFUSED = (
+    (re.compile(r"!\[[^\]]*\]\("), "an image", "the page does not serve image files; describe it in words or "
+                                             "show it with the lesson's scene"),
+    (re.compile(r"<\s*(script|style|iframe|img|object|embed|form|input|link|meta)\b", re.IGNORECASE),
+     "raw HTML the page does not run or show", "write it in Markdown"),
+)
+
+
+def body_problems(body: str, first_line: int) -> list[SceneError]:
+    """What in a lesson's Markdown text the page could not show, each with its file line.
+
+    Everything else the lessons use (headings of every level, paragraphs,
+    lists, tables, code, emphasis, links, ``$...$`` and ``$$...$$`` maths)
+    is rendered by the page; what it cannot render is refused here rather
+    than dropped silently.
+    """
+    found = []
+    in_code = False
+    for offset, line in enumerate(body.splitlines()):
+        if line.lstrip().startswith("```"):
+            in_code = not in_code
+        if in_code or line.startswith("    "):
+            continue  # code is shown as written
+        for pattern, what, instead in BODY_REFUSED:
+            match = pattern.search(line)
+            if match:
+                found.append(SceneError(f"{what} cannot be shown in the lesson text", field="text",
+                                        value=line.strip()[:60], hint=instead, line=first_line + offset))
+    text = re.sub(r"```.*?```", "", body, flags=re.DOTALL)
+    if len(re.findall(r"(?<!\\)\$\$", text)) % 2:
+        found.append(SceneError("a display formula opened with $$ is never closed", field="text",
+                                hint="close it with $$, or write \\$ for a dollar sign", line=first_line))
+    return found
 
 
 def split_front_matter(text: str, shown: str) -> tuple[str, str, int]:
@@ -95,6 +131,8 @@ def _read_lesson(path) -> _Reading:
         reading.errors = list(exc.errors)
         return reading
     problems = Problems()
+    for error in body_problems(body, first + len(front.splitlines()) + 1):
+        problems.add(error)
     parts = scene_parts(data, problems, extra_keys=LESSON_KEYS, base_dir=Path(path).resolve().parent)
     scene = Scene(source=os.fspath(path), **parts) if parts is not None else None
 
@@ -131,6 +169,7 @@ def _read_lesson(path) -> _Reading:
         experiment = _build_experiment(item, f"experiments[{i}]", scene, problems)
         if experiment is not None:
             experiments.append(experiment)
+    claims = _build_claims(data.get("claims", []), scene, experiments, len(raw_experiments), problems)
 
     try:
         problems.raise_all(file=shown, lines=KeyLines(front, first))
@@ -149,6 +188,7 @@ def _read_lesson(path) -> _Reading:
         question=texts["question"],
         answer=texts["answer"],
         mistake=mistake,
+        claims=tuple(claims),
     )
     return reading
 
@@ -242,6 +282,55 @@ def _build_experiment(item, where: str, scene: Scene | None, problems: Problems)
                 )
             )
     return Experiment(label=label, text=text, settings=tuple(settings)) if ok else None
+
+
+def _build_claims(raw, scene: Scene | None, experiments: list, n_experiments: int, problems: Problems) -> list[Claim]:
+    """The lesson's ``[[claims]]``: sentence, check expression, and the settings they are checked under."""
+    if not isinstance(raw, list):
+        problems.add(SceneError("must be a list of [[claims]] tables", field="claims", value=raw))
+        return []
+    claims = []
+    for i, item in enumerate(raw):
+        where = f"claims[{i}]"
+        table = problems.table(where, item, CLAIM_KEYS, required=CLAIM_REQUIRED)
+        if table is None:
+            continue
+        says = problems.run(check_text, join_path(where, "says"), table.get("says", ""))
+        check = table.get("check")
+        try:
+            parse_check(check)
+        except SceneError as exc:
+            problems.add(SceneError(exc.problem, field=join_path(where, "check"), value=exc.value, hint=exc.hint))
+            check = None
+        number = table.get("experiment")
+        base = scene
+        if number is not None:
+            number = problems.run(check_int, join_path(where, "experiment"), number, low=1)
+            if number is not None and number > n_experiments:
+                problems.add(SceneError(f"must name one of the lesson's {n_experiments} experiments (from 1)",
+                                        field=join_path(where, "experiment"), value=number))
+                number = None
+            elif number is not None and scene is not None and len(experiments) == n_experiments:
+                base = scene.replace_many(experiments[number - 1].settings)
+        raw_set = table.get("set", {})
+        settings = []
+        if not isinstance(raw_set, dict):
+            problems.add(SceneError('must be a table of field paths and values, e.g. {"material.ks" = 0}',
+                                    field=join_path(where, "set"), value=raw_set))
+        else:
+            settings = _flatten(raw_set)
+            found = settings_problems(base, settings) if base is not None else []
+            for culprit, error in found:
+                for one in getattr(error, "errors", [error]):
+                    problems.add(SceneError(one.problem, value=one.value, hint=one.hint,
+                                            field=join_path(join_path(where, "set"), render_key(culprit)) if culprit
+                                            else join_path(where, "set")))
+            if found:
+                settings = None
+        if says is not None and check is not None and settings is not None and (number is not None
+                                                                              or "experiment" not in table):
+            claims.append(Claim(says=says, check=check.strip(), experiment=number, settings=tuple(settings), index=i))
+    return claims
 
 
 def load(path) -> Scene | Lesson:

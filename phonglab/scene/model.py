@@ -168,6 +168,8 @@ class Lesson:
         A check-your-understanding question and its answer.
     mistake : str or None
         Name of a "common mistake" variant to show, if any.
+    claims : tuple of phonglab.scene.claims.Claim
+        Sentences of the lesson with the checks the test suite runs on its scene.
     """
 
     path: str
@@ -181,6 +183,7 @@ class Lesson:
     question: str = ""
     answer: str = ""
     mistake: str | None = None
+    claims: tuple = ()
 
     def __post_init__(self):
         object.__setattr__(self, "controls", tuple(self.controls))

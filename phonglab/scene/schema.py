@@ -42,7 +42,7 @@ SCENE_DEFAULTS = {"title": "", "model": "phong", "interpolation": "gouraud", "tw
 SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "geometry", "material", "lights", "camera",
               "area_light")
 #: further top-level keys of a lesson's front matter
-LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake")
+LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake", "claims")
 GEOMETRY_KEYS = ("kind", "resolution", "name", "path")
 MATERIAL_KEYS = ("ka", "kd", "ks", "shininess", "emission", "opacity")
 MATERIAL_REQUIRED = ("ka", "kd", "ks", "shininess")
@@ -126,3 +126,51 @@ def table_light_type(table: dict) -> str | None:
         hom = table["homogeneous"]
         return "directional" if isinstance(hom, (list, tuple)) and len(hom) == 4 and hom[3] == 0 else "point"
     return kind
+
+# ---------------------------------------------------------------------------
+# a lesson's executable claims: [[claims]] tables
+
+#: keys of a ``[[claims]]`` table
+CLAIM_KEYS = ("says", "check", "experiment", "set")
+CLAIM_REQUIRED = ("says", "check")
+#: the longest check expression, in characters and in syntax-tree nodes
+CLAIM_MAX_CHARS = 400
+CLAIM_MAX_NODES = 80
+#: what ``probe(QUANTITY)`` and ``peak``/``mean`` may measure
+PROBE_QUANTITIES = ("nl", "rv", "nh", "distance", "attenuation", "spot",
+                    "ambient", "diffuse", "specular", "emission", "color")
+IMAGE_TERMS = ("ambient", "diffuse", "specular", "emission", "color")
+CHANNELS = ("r", "g", "b", "max")
+ERROR_MEASURES = ("rmse", "max_error", "highlight_rmse", "peak_error")
+#: function name -> (argument kinds, meaning). A kind is "number" (any number
+#: expression) or a tuple of allowed words; a trailing "?" kind is optional.
+CLAIM_FUNCTIONS = {
+    "pow": (("number", "number"), "x to the power y"),
+    "abs": (("number",), "absolute value"),
+    "sqrt": (("number",), "square root"),
+    "min": (("number", "number"), "the smaller of two numbers"),
+    "max": (("number", "number"), "the larger of two numbers"),
+    "cosd": (("number",), "cosine of an angle in degrees"),
+    "acosd": (("number",), "angle in degrees whose cosine is x"),
+    "probe": ((PROBE_QUANTITIES, CHANNELS + ("?",)),
+              "a value at the lesson's probe point for the first directed light (colours: channel r, g, b or "
+              "the largest, max)"),
+    "peak": ((IMAGE_TERMS, CHANNELS + ("?",)), "the largest value of a term over the picture as the page shades it"),
+    "low": ((IMAGE_TERMS, CHANNELS + ("?",)), "the smallest value of a term over the picture"),
+    "mean": ((IMAGE_TERMS, CHANNELS + ("?",)), "the mean of a term over the pixels the surface covers"),
+    "stretch": ((), "height over width, in pixels, of the highlight: the pixels whose specular term is at least "
+                    "half its peak"),
+    "rim": ((), "the dimmest lit pixel's diffuse term over the brightest one's: what is left at the edge of the "
+                "lit region (a hard edge keeps much, a soft one nearly nothing)"),
+    "lit_fraction": ((), "the fraction of the covered pixels a directed light reaches (diffuse > 0)"),
+    "vertices": (("number?",), "the mesh's vertex count (at a given resolution, if one is given)"),
+    "lit_cap": ((), "degrees from the first directed light's direction, seen from the object's centre, "
+                    "to the farthest lit vertex (90 for a directional light on a sphere)"),
+    "error": ((("flat", "gouraud", "pixel"), "number", ERROR_MEASURES),
+              "an interpolation method's error against the exact sphere, at a resolution, for this scene"),
+    "area_error": ((("point", "uniform", "stratified"), "number"),
+                   "relative RMS error of a finite light's estimate against the exact form, with N samples per "
+                   "point (the accuracy study's panel and floor, RMS over 4 seeds)"),
+    "area_ratio": ((), "point-light approximation over the exact area-light irradiance, directly under the "
+                       "panel's centre"),
+}

@@ -1,0 +1,119 @@
+"""``phonglab new lesson FILE``: write a minimal lesson that passes ``phonglab check``.
+
+The new lesson has a sphere, a material, an ambient and a point light, one
+control, one experiment, a question with its answer and one executable claim
+per experiment, so an author starts from something that works and opens in
+``phonglab serve FILE``. Every key is explained in ``lessons/FORMAT.md``.
+
+Exit status: 0 when the file was written, 2 when it exists (without
+``--force``), its name does not end in ``.md`` or it cannot be written.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from phonglab.bench.usage import UsageError
+
+#: what ``phonglab new`` can write
+KINDS = ("lesson",)
+
+TEMPLATE = '''+++
+number = {number}
+title = "{title}"
+goal = "Say in one sentence what the student will be able to do after this lesson."
+controls = ["material.shininess", "lights[1].position"]
+question = "Ask one question the lesson answers. Why does the highlight get smaller when α grows?"
+answer = "Give the answer here: a larger α makes (r·v)^α fall off faster away from the mirror direction."
+interpolation = "pixel"
+
+[geometry]
+kind = "sphere"
+resolution = 64
+
+[material]
+ka = [0.8, 0.3, 0.2]
+kd = [0.8, 0.3, 0.2]
+ks = 0.5
+shininess = 20
+
+[[lights]]
+type = "ambient"
+intensity = 0.2
+
+[[lights]]
+type = "point"
+position = [2.0, 2.5, 3.0]
+
+[camera]
+eye = [0, 0, 5.5]
+
+[[experiments]]
+label = "Shininess 100"
+text = "Set the shininess to 100. What happens to the size of the highlight?"
+set = {{ "material.shininess" = 100 }}
+
+# Each claim is a sentence of the lesson, executed by the tests on this scene
+# (see lessons/FORMAT.md for the functions a check may call).
+[[claims]]
+says = "The highlight's peak is k_s I_s = 0.5."
+check = "abs(peak('specular') - 0.5) < 0.01"
+
+[[claims]]
+says = "With α = 100 the highlight is smaller: it reflects less light in total."
+experiment = 1
+check = "mean('specular') < 0.01"
++++
+
+## What this lesson is about
+
+Write the lesson here, in Markdown. Maths goes between dollar signs:
+$I = k_a I_a + k_d I_d \\max(0, \\mathbf{{n}} \\cdot \\mathbf{{l}})$, or on its own line:
+
+$$\\mathbf{{r}} = 2 (\\mathbf{{n}} \\cdot \\mathbf{{l}})\\, \\mathbf{{n}} - \\mathbf{{l}}$$
+
+## Try it
+
+Tell the student what to try with the controls and the experiment.
+'''
+
+
+def add_parser(subparsers):
+    parser = subparsers.add_parser(
+        "new",
+        help="write a minimal lesson to start from",
+        description="Write a minimal, valid lesson (checked by phonglab check, opened by phonglab serve).",
+    )
+    parser.add_argument("kind", choices=KINDS, help="what to write")
+    parser.add_argument("file", metavar="FILE", help="the new lesson, e.g. lessons/12-my-topic.md")
+    parser.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
+    return parser
+
+
+def lesson_text(path) -> str:
+    """The new lesson's text: number from the file name's digits (else 1), title from the rest of the name."""
+    path = Path(path)
+    digits = re.match(r"\d+", path.name)
+    number = int(digits.group()) if digits else 1
+    stem = path.stem[digits.end():] if digits else path.stem
+    title = stem.strip("-_ ").replace("-", " ").replace("_", " ").capitalize() or "A new lesson"
+    return TEMPLATE.format(number=number, title=title.replace('"', "'"))
+
+
+def run(args) -> int:
+    path = Path(args.file)
+    if path.suffix.lower() != ".md":
+        raise UsageError(f"FILE: a lesson must end in .md, got {args.file!r}")
+    if path.exists() and not args.force:
+        raise UsageError(f"FILE: {args.file} exists; use --force to overwrite it")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(lesson_text(path), encoding="utf-8")
+    except OSError as exc:
+        raise UsageError(f"FILE: cannot write {args.file}: {exc.strerror}") from None
+    print(f"wrote {path}; check it with: phonglab check {path}; open it with: phonglab serve {path}")
+    if not re.match(r"\d", path.name):
+        print("note: the lesson list shows only files whose name starts with the lesson number, "
+              "e.g. 12-my-topic.md")
+    return 0
