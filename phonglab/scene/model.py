@@ -168,6 +168,8 @@ class Lesson:
         A check-your-understanding question and its answer.
     mistake : str or None
         Name of a "common mistake" variant to show, if any.
+    check : CheckQuestion or None
+        An answerable question the page marks (:mod:`phonglab.scene.check`).
     """
 
     path: str
@@ -181,6 +183,7 @@ class Lesson:
     question: str = ""
     answer: str = ""
     mistake: str | None = None
+    check: object = None
 
     def __post_init__(self):
         object.__setattr__(self, "controls", tuple(self.controls))
