@@ -33,6 +33,13 @@ def add_parser(subparsers):
     parser.add_argument("--port", type=_port, default=8080, help="port to listen on (default 8080; 0 picks a free one)")
     parser.add_argument("--export-dir", default="phonglab-exports", metavar="DIR",
                         help="where the page's export button saves figures (default phonglab-exports/)")
+    parser.add_argument("--allow-student-code", action="store_true",
+                        help="show the 'Your code' panel: students paste their shade() and it RUNS ON THIS SERVER "
+                             "(remote code execution by design; for a trusted classroom only). Each paste is graded "
+                             "like `phonglab grade`: a separate python -I process in an empty temporary folder, with "
+                             "CPU, memory and time limits, no file writes, no network where a network namespace can "
+                             "be made, and an audit hook refusing files outside its folder, programs, sockets and "
+                             "ctypes. Audit hooks are not a security boundary: run the server in a container too")
     return parser
 
 
@@ -95,6 +102,9 @@ def run(args) -> int:
     if not _is_loopback(host):
         print(f"phonglab serve: warning: listening on {host}: other machines can reach this server",
               file=sys.stderr)
+    if args.allow_student_code:
+        print("phonglab serve: warning: --allow-student-code: students' code runs on this server, in the "
+              "grader's sandbox; for a trusted classroom only", file=sys.stderr)
 
     def ready(port):
         shown = f"[{host}]" if ":" in host else host
@@ -103,7 +113,8 @@ def run(args) -> int:
     from phonglab.app import serve
 
     try:
-        serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready)
+        serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready,
+              allow_student_code=args.allow_student_code)
     except OSError as exc:
         if exc.errno in (errno.EADDRINUSE, errno.EACCES, errno.EADDRNOTAVAIL):
             raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror}") from None
