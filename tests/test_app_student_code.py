@@ -120,3 +120,23 @@ def test_pasted_code_with_a_mistake_is_diagnosed_and_broken_code_is_reported():
     assert wrong["score"] < 100 and wrong["diagnosis"] == ["spot-cutoff-in-degrees"], wrong["report"]
     broken = grade_code("def shade(:\n", Limits())
     assert broken["error"].startswith("The code cannot be loaded: SyntaxError"), broken
+
+
+def test_serve_flag_is_off_by_default_and_its_help_says_code_runs_on_the_server(monkeypatch, capsys):
+    import argparse
+
+    from phonglab.cli import serve as serve_cli
+
+    parser = argparse.ArgumentParser()
+    serve_cli.add_parser(parser.add_subparsers())
+    assert parser.parse_args(["serve"]).allow_student_code is False
+    assert parser.parse_args(["serve", "--allow-student-code"]).allow_student_code is True
+    help_text = " ".join(serve_cli.add_parser(argparse.ArgumentParser().add_subparsers()).format_help().split())
+    for words in ("RUNS ON THIS SERVER", "remote code execution", "trusted classroom", "python -I", "audit hook"):
+        assert words in help_text, (words, help_text)
+    # the flag reaches the app
+    seen = {}
+    monkeypatch.setattr("phonglab.app.serve", lambda target, **kw: seen.update(kw))
+    args = parser.parse_args(["serve", str(Path(__file__).resolve().parents[1] / "lessons"), "--allow-student-code"])
+    assert serve_cli.run(args) == 0 and seen["allow_student_code"] is True
+    assert "students' code runs on this server" in capsys.readouterr().err
