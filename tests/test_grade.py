@@ -42,7 +42,16 @@ MISTAKE_FILES = {
     "zero-shininess": "zero_shininess.py",
     "unnormalised-normals": "unnormalised_normals.py",
     "reflect-wrong-way": "reflect_wrong_way.py",
+    "unnormalised-light": "unnormalised_light.py",
+    "unnormalised-view": "unnormalised_view.py",
+    "view-from-eye": "view_from_eye.py",
+    "attenuated-ambient": "attenuated_ambient.py",
+    "spot-cutoff-in-degrees": "spot_cutoff_in_degrees.py",
+    "power-before-max": "power_before_max.py",
 }
+
+#: mistakes that one-sided Phong with a local viewer cannot tell apart: −r·v either way
+SAME_NUMBERS = {"reflect-wrong-way": {"view-from-eye"}, "view-from-eye": {"reflect-wrong-way"}}
 
 #: quick limits for the files that fail on purpose
 QUICK = Limits(time_limit=1.0, total_limit=20.0)
@@ -140,15 +149,17 @@ def test_a_catalogue_mistake_loses_marks_and_is_named(name):
         pytest.skip(f"no student file for the mistake {name!r}: add one to tests/data/grade and MISTAKE_FILES")
     report = graded(MISTAKE_FILES[name])
     assert report.score < 100, format_report(report)
-    if name in MISTAKES:
-        assert name in report.diagnosis, format_report(report)
-        for g in report.groups:
-            if g.diagnosis is not None:
-                m = MISTAKES[g.diagnosis.name]
-                assert (g.diagnosis.wrong, g.diagnosis.right, g.diagnosis.looks_like) == (m.wrong, m.right,
-                                                                                         m.looks_like)
-    else:  # the reversed reflection: not in the catalogue (yet), so no name to give
-        assert report.diagnosis == [], format_report(report)
+    assert name in MISTAKES, f"{name}: a student file for a mistake the catalogue does not have"
+    # named, and nothing else named but the mistakes giving the same numbers
+    assert name in report.diagnosis, format_report(report)
+    assert set(report.diagnosis) <= {name} | SAME_NUMBERS.get(name, set()), format_report(report)
+    for g in report.groups:
+        if g.diagnosis is not None:
+            m = MISTAKES[g.diagnosis.name]
+            assert (g.diagnosis.wrong, g.diagnosis.right, g.diagnosis.looks_like) == (m.wrong, m.right,
+                                                                                     m.looks_like)
+    text = format_report(report)
+    assert f"wrong: {MISTAKES[name].wrong}" in text and f"right: {MISTAKES[name].right}" in text, text
 
 
 def test_a_reversed_reflection_vector_fails_the_reflection_group():
@@ -166,6 +177,27 @@ def test_each_mistake_fails_where_it_bites_and_passes_elsewhere():
     assert "specular" in groups["ungated-specular"] and "diffuse" not in groups["ungated-specular"]
     assert {"shininess", "specular"} <= groups["zero-shininess"]
     assert groups["unnormalised-normals"] == {"hard"}, groups
+    assert "reflection" in groups["reflect-wrong-way"] and "diffuse" not in groups["reflect-wrong-way"], groups
+    assert {"diffuse", "attenuation"} <= groups["unnormalised-light"] and "ambient" not in groups["unnormalised-light"]
+    assert "specular" in groups["unnormalised-view"] and "diffuse" not in groups["unnormalised-view"], groups
+    assert "reflection" in groups["view-from-eye"] and "diffuse" not in groups["view-from-eye"], groups
+    assert "attenuation" in groups["attenuated-ambient"], groups
+    assert not {"ambient", "diffuse", "specular"} & groups["attenuated-ambient"], groups
+    assert "spot" in groups["spot-cutoff-in-degrees"] and not {"diffuse", "attenuation"} & groups[
+        "spot-cutoff-in-degrees"], groups
+    assert groups["power-before-max"] == {"specular"}, groups
+
+
+def test_equal_mistakes_are_named_together_and_the_right_answers_break_ties():
+    """A reversed r and a reversed v give the same r·v: both are named; power-before-max is told apart."""
+    for name in ("reflect_wrong_way.py", "view_from_eye.py"):
+        report = graded(name)
+        assert report.diagnosis == ["reflect-wrong-way", "view-from-eye"], format_report(report)
+        assert 'or, with the same numbers in every case here, the mistake "view-from-eye"' in format_report(report)
+    # its one wrong case is explained by a reversed r too, but the reversed r would get the right answers wrong
+    specular = by_key(graded("power_before_max.py"))["specular"]
+    assert specular.diagnosis.name == "power-before-max" and specular.diagnosis.equally == (), format_report(
+        graded("power_before_max.py"))
 
 
 def test_the_report_shows_the_worst_case_with_inputs_and_the_diagnosis():

@@ -59,7 +59,67 @@ SCENES = {
     ),
     # a plastic sphere: α = 0 puts k_s I_s on every lit point
     "zero-shininess": base(),
+    # the lamp near the eye, a broad highlight (α = 4): −r·v lights the rim instead of the middle
+    "reflect-wrong-way": base(
+        material=pl.Material(ka=0.3, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=4),
+        lights=(pl.AmbientLight(intensity=0.4), pl.PointLight(position=(0.5, 0.5, 5))),
+    ),
+    "view-from-eye": base(
+        material=pl.Material(ka=0.3, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=4),
+        lights=(pl.AmbientLight(intensity=0.4), pl.PointLight(position=(0.5, 0.5, 5))),
+    ),
+    # the same with an even α = 2: (r·v)² > 0 at the rim, where r·v < 0
+    "power-before-max": base(
+        material=pl.Material(ka=0.3, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=2),
+        lights=(pl.AmbientLight(intensity=0.4), pl.PointLight(position=(0.5, 0.5, 5))),
+    ),
+    # a dim lamp about 4 units away: n·l four times too large on the lit side
+    "unnormalised-light": base(
+        material=pl.Material(ka=0.3, kd=(0.3, 0.1, 0.1), ks=0.0, shininess=30),
+        lights=(pl.AmbientLight(intensity=0.4), pl.PointLight(position=(2, 2.5, 3), intensity=0.3)),
+    ),
+    # the eye 5 units away and α = 4: the highlight 5⁴ times too bright
+    "unnormalised-view": base(material=pl.Material(ka=0.3, kd=(0.8, 0.3, 0.2), ks=0.02, shininess=4)),
+    # an inverse-square lamp: the ambient floor of the dark side fades with the distance to it
+    "attenuated-ambient": base(
+        material=pl.Material(ka=0.6, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=30),
+        lights=(pl.AmbientLight(intensity=0.4), pl.PointLight(position=(2, 2.5, 3), attenuation=(0, 0, 0.08))),
+    ),
+    # a 30° spot straight down on the sphere: nothing inside its cone passes "cos >= 30"
+    "spot-cutoff-in-degrees": base(
+        lights=(pl.AmbientLight(intensity=0.4),
+                pl.SpotLight(position=(0.5, 3, 3), direction=(-0.5, -3, -3), cutoff=25, exponent=1)),
+    ),
 }
+
+#: the lamp's distance and the spot cone, for the mistakes that use them
+def lamp_terms(scene, points):
+    lamp = scene.lights[1]
+    to_point = np.asarray(points, float) - np.asarray(lamp.position)
+    d = np.linalg.norm(to_point, axis=-1)
+    axis = np.asarray(getattr(lamp, "direction", (0, 0, -1)), float)
+    cos_axis = to_point @ (axis / np.linalg.norm(axis)) / d
+    inside = cos_axis >= np.cos(np.radians(getattr(lamp, "cutoff", 180)))
+    return d, inside
+
+
+def bites(mistake, scene, points, nl, rv):
+    """Where the mistake must change the colour, and where it must not (boolean masks)."""
+    lit, dark = nl > 0.05, nl < -0.05
+    d, inside = lamp_terms(scene, points)
+    if mistake in ("reflect-wrong-way", "view-from-eye"):
+        return lit & ((rv > 0.9) | (rv < -0.8)), dark
+    if mistake == "power-before-max":
+        return lit & (rv < -0.8), rv > 0
+    if mistake == "unnormalised-light":
+        return lit, dark
+    if mistake == "unnormalised-view":
+        return lit & (rv > 0.3), dark
+    if mistake == "attenuated-ambient":
+        return dark & (d > 4.3), np.zeros_like(dark)
+    if mistake == "spot-cutoff-in-degrees":
+        return lit & inside & (np.abs(nl) > 0.2), ~inside
+    raise AssertionError(f"no bite mask for {mistake}")
 
 
 def test_every_mistake_has_a_scene_here():
@@ -170,11 +230,18 @@ def test_pixel_mistake_through_figure_differs_where_the_bug_bites(monkeypatch, t
             f"{near_edges:.2f} where |n| >= {long_:.4f}"
         )
         assert raw.min() < 0.95, f"{info}: the pixel mode shading got renormalised normals (min |n| {raw.min():.4f})"
-    else:  # zero-shininess
+    elif mistake == "zero-shininess":
         # the dark side untouched; every lit pixel away from the highlight washed out
         dark, matte = nl < -0.05, (nl > 0.05) & (rv < 0.5)
         assert not changed(a[dark], b[dark]).any(), f"{info}: {changed(a[dark], b[dark]).sum()} dark pixels changed"
         assert np.all(darker[matte] < -30), f"{info}: lit pixels brighten by only {-darker[matte].max()} levels"
+    else:
+        # the pixels where the wrong line changes the sum change, and those where it cannot stay
+        bite, same = bites(mistake, scene, g.positions[g.mask], nl, rv)
+        assert bite.sum() > 10, f"{info}: only {bite.sum()} pixels where the bug bites"
+        assert changed(a[bite], b[bite], 3).mean() > 0.9, \
+            f"{info}: {changed(a[bite], b[bite], 3).mean():.0%} of the {bite.sum()} pixels where it bites changed"
+        assert not changed(a[same], b[same]).any(), f"{info}: {changed(a[same], b[same]).sum()} pixels changed"
 
     # the picture in the file is the one rendered (below its label, inside its frame)
     inset = 4
@@ -220,8 +287,11 @@ def test_vertex_and_face_colours_change_where_the_bug_bites(mode, mistake):
         assert np.array_equal(correct, wrong), info
         assert not shading.mistake_shows(mistake, mode)
         assert "per-pixel" in shading.mistake_note(mistake, mode), shading.mistake_note(mistake, mode)
-    else:
+    elif mistake == "zero-shininess":
         assert diff[(nl > 0.05) & (rv < 0.5)].all() and not diff[nl < 0].any(), info
+    else:
+        bite, same = bites(mistake, scene, points, nl, rv)
+        assert bite.any() and diff[bite].mean() > 0.9 and not diff[same].any(), info
 
 
 @pytest.mark.parametrize("mode", ["flat", "gouraud"])

@@ -18,10 +18,17 @@ from hypothesis import strategies as st
 import phonglab as pl
 from phonglab.teaching import (
     MISTAKES,
+    attenuated_ambient,
     get_mistake,
     no_clamp_diffuse,
+    power_before_max,
+    reflect_wrong_way,
+    spot_cutoff_in_degrees,
     ungated_specular,
+    unnormalised_light,
     unnormalised_normals,
+    unnormalised_view,
+    view_from_eye,
     zero_shininess,
 )
 
@@ -210,13 +217,129 @@ def test_zero_shininess_is_the_core_at_alpha_0_where_r_v_is_positive():
 
 
 # ---------------------------------------------------------------------------
+# the seven mistakes students make writing the model themselves
+
+
+def sides(light_position, p, n, eye=EYE):
+    l = pl.normalize(np.asarray(light_position, float) - p)
+    v = pl.normalize(np.asarray(eye, float) - p)
+    nl = pl.dot(n, l)
+    return nl, pl.dot(pl.reflect(l, n), v)
+
+
+def test_reflect_wrong_way_flips_the_sign_of_r_v():
+    p, n = sphere(64, 32)
+    light = pl.PointLight(position=(0.5, 0.5, 5))  # near the eye: the true highlight in the middle
+    material = pl.Material(ka=0.1, kd=0.5, ks=0.6, shininess=4)
+    args = dict(material=material, lights=[light], eye=EYE)
+    wrong, right = reflect_wrong_way(p, n, **args), pl.shade(p, n, **args)
+    nl, rv = sides(light.position, p, n)
+    lit = nl > 0
+    # the wrong line: max(0, −r·v)^α where n·l > 0
+    assert np.allclose(wrong.specular[..., 0], np.where(lit, material.ks[0] * np.maximum(-rv, 0) ** 4, 0),
+                       atol=1e-12), "specular must be k_s max(0, −r·v)^α"
+    peak, rim = lit & (rv > 0.95), lit & (rv < -0.5)
+    assert peak.sum() > 3 and rim.sum() > 3, (peak.sum(), rim.sum())
+    assert np.all(wrong.specular[peak] == 0) and np.all(wrong.specular[rim] > right.specular[rim] + 0.03)
+    assert_terms_close(wrong, right, slice(None), "reflect-wrong-way", terms=("ambient", "diffuse", "emission"))
+    # Blinn-Phong has no r: unchanged
+    blinn = dict(args, model="blinn-phong")
+    assert_terms_close(reflect_wrong_way(p, n, **blinn), pl.shade(p, n, **blinn), slice(None), "blinn")
+
+
+def test_view_from_eye_is_the_reversed_r_v_one_sided_and_differs_in_blinn_phong():
+    p, n = sphere(64, 32)
+    args = dict(material=MAT, lights=[AMBIENT, pl.PointLight(position=(2, 2.5, 3))], eye=EYE)
+    assert_terms_close(view_from_eye(p, n, **args), reflect_wrong_way(p, n, **args), slice(None),
+                       "view-from-eye vs reflect-wrong-way (one-sided Phong: −r·v either way)")
+    wrong, right = view_from_eye(p, n, **args), pl.shade(p, n, **args)
+    assert np.abs(wrong.specular - right.specular).max() > 0.3, "the highlight must move"
+    blinn = dict(args, model="blinn-phong")
+    assert np.abs(view_from_eye(p, n, **blinn).specular - pl.shade(p, n, **blinn).specular).max() > 0.1
+    # an infinite viewer has no eye position to get wrong
+    far = dict(args, eye=None, view_direction=(0, 0, 1))
+    assert_terms_close(view_from_eye(p, n, **far), pl.shade(p, n, **far), slice(None), "infinite viewer")
+
+
+@pytest.mark.parametrize("distance", [0.5, 3.0])
+def test_unnormalised_light_scales_the_diffuse_light_by_the_distance(distance):
+    p, n = np.array([[0.0, 0, 0]]), np.array([[0.0, 0, 1]])
+    light = pl.PointLight(position=(0, 0.6 * distance, 0.8 * distance))  # n·l = 0.8
+    args = dict(material=MAT, lights=[AMBIENT, light], eye=EYE)
+    wrong, right = unnormalised_light(p, n, **args), pl.shade(p, n, **args)
+    assert np.allclose(wrong.diffuse, right.diffuse * distance, rtol=1e-12), (distance, wrong.diffuse, right.diffuse)
+    # a directional light is unchanged
+    sun = dict(args, lights=[pl.DirectionalLight(direction=(0, 3, 4))])
+    assert_terms_close(unnormalised_light(p, n, **sun), pl.shade(p, n, **sun), slice(None), "directional")
+
+
+def test_unnormalised_view_raises_the_highlight_by_the_eye_distance_to_the_alpha():
+    p, n = np.array([[0.0, 0, 0]]), np.array([[0.0, 0, 1]])
+    material = pl.Material(ka=0.1, kd=0.5, ks=0.5, shininess=3)
+    args = dict(material=material, lights=[pl.DirectionalLight(direction=(0, 0, 1))], eye=(0, 0, 4))  # r·v = 1
+    wrong, right = unnormalised_view(p, n, **args), pl.shade(p, n, **args)
+    assert np.allclose(right.specular, 0.5) and np.allclose(wrong.specular, 0.5 * 4**3), wrong.specular
+    assert_terms_close(wrong, right, slice(None), "unnormalised-view", terms=("ambient", "diffuse", "emission"))
+
+
+def test_attenuated_ambient_fades_the_ambient_light_with_the_lamp_distance():
+    p, n = sphere()
+    light = pl.PointLight(position=(3, 1, 0), attenuation=(0, 0, 1))
+    args = dict(material=MAT, lights=[AMBIENT, light], eye=EYE)
+    wrong, right = attenuated_ambient(p, n, **args), pl.shade(p, n, **args)
+    d = np.linalg.norm(np.asarray(light.position) - p, axis=-1)
+    assert np.allclose(wrong.ambient, right.ambient * (1 / d**2)[:, None], rtol=1e-12)
+    far = d > 3
+    assert far.sum() > 50 and np.all(wrong.color[far] < right.color[far])
+    assert_terms_close(wrong, right, slice(None), "attenuated-ambient", terms=("diffuse", "specular", "emission"))
+    # no positioned light, or f = 1: nothing to get wrong
+    sun = dict(args, lights=[AMBIENT, pl.DirectionalLight(direction=(1, 1, 1))])
+    assert_terms_close(attenuated_ambient(p, n, **sun), pl.shade(p, n, **sun), slice(None), "directional only")
+
+
+@pytest.mark.parametrize("cutoff", [8.0, 30.0, 89.0])
+def test_spot_cutoff_in_degrees_lights_nothing_but_a_point_light_still_lights(cutoff):
+    p, n = sphere()
+    spot = pl.SpotLight(position=(0, 0, 3), direction=(0, 0, -1), cutoff=cutoff)
+    args = dict(material=MAT, lights=[AMBIENT, spot], eye=EYE)
+    wrong, right = spot_cutoff_in_degrees(p, n, **args), pl.shade(p, n, **args)
+    assert np.all(wrong.diffuse == 0) and np.all(wrong.specular == 0), "no cosine reaches the cutoff"
+    assert (right.diffuse > 0.01).any(), f"cutoff {cutoff}: the correct spot lights something"
+    plain = dict(args, lights=[AMBIENT, pl.SpotLight(position=(0, 0, 3), direction=(0, 0, -1), cutoff=180)])
+    assert_terms_close(spot_cutoff_in_degrees(p, n, **plain), pl.shade(p, n, **plain), slice(None), "cutoff 180")
+
+
+@pytest.mark.parametrize("alpha, bites", [(2.0, True), (4.0, True), (3.0, False), (2.5, False)])
+def test_power_before_max_shows_a_ghost_highlight_for_an_even_alpha(alpha, bites):
+    p, n = sphere(64, 32)
+    light = pl.PointLight(position=(0.5, 0.5, 5))
+    material = pl.Material(ka=0.1, kd=0.5, ks=0.6, shininess=alpha)
+    args = dict(material=material, lights=[light], eye=EYE)
+    wrong, right = power_before_max(p, n, **args), pl.shade(p, n, **args)
+    nl, rv = sides(light.position, p, n)
+    ghost = (nl > 0) & (rv < -0.5)
+    assert ghost.sum() > 3, "the sphere's rim must have r·v < 0 on the lit side"
+    assert_terms_close(wrong, right, ~ghost, f"power-before-max α={alpha} where r·v > −0.5", terms=("specular",),
+                       atol=0.6 * 0.5**alpha)  # at most k_s |r·v|^α there
+    assert_terms_close(wrong, right, (nl > 0) & (rv > 0), f"power-before-max α={alpha} where r·v > 0")
+    if bites:  # (r·v)^α = |r·v|^α for an even α
+        assert np.allclose(wrong.specular[ghost, 0], 0.6 * np.abs(rv[ghost]) ** alpha, rtol=1e-9)
+    else:  # odd: negative, then clamped; fractional: not a real number, taken as 0
+        assert np.all(wrong.specular[ghost] == 0)
+
+
+# ---------------------------------------------------------------------------
 # the registry and the scene helper
 
 
 def test_registry_names_each_variant():
-    assert set(MISTAKES) == {"no-clamp-diffuse", "ungated-specular", "unnormalised-normals", "zero-shininess"}
     expected = {"no-clamp-diffuse": no_clamp_diffuse, "ungated-specular": ungated_specular,
-                "unnormalised-normals": unnormalised_normals, "zero-shininess": zero_shininess}
+                "unnormalised-normals": unnormalised_normals, "zero-shininess": zero_shininess,
+                "reflect-wrong-way": reflect_wrong_way, "unnormalised-light": unnormalised_light,
+                "unnormalised-view": unnormalised_view, "view-from-eye": view_from_eye,
+                "attenuated-ambient": attenuated_ambient, "spot-cutoff-in-degrees": spot_cutoff_in_degrees,
+                "power-before-max": power_before_max}
+    assert set(MISTAKES) == set(expected)
     for name, mistake in MISTAKES.items():
         assert mistake.name == name and mistake.shade is expected[name], name
         assert mistake.title and mistake.looks_like and mistake.wrong != mistake.right, name
@@ -263,7 +386,19 @@ def test_each_mistake_is_the_reference_kernel_with_one_step_changed():
         ungated_specular: Steps(specular_weight=mistakes.specular_lobe_ungated),
         unnormalised_normals: Steps(normal=mistakes.raw_normal),
         zero_shininess: Steps(specular_weight=mistakes.specular_lobe_zero_exponent),
+        reflect_wrong_way: Steps(mirror=mistakes.reflect_reversed),
+        unnormalised_light: Steps(light=mistakes.light_vector_raw),
+        unnormalised_view: Steps(view=mistakes.view_vector_raw),
+        view_from_eye: Steps(view=mistakes.view_from_eye_step),
+        attenuated_ambient: Steps(ambient=mistakes.ambient_attenuated),
+        power_before_max: Steps(specular_weight=mistakes.specular_lobe_power_first),
     }
+    spot_args = dict(args, lights=[AMBIENT, pl.SpotLight(position=(0, 0, 3), direction=(0, 0, -1), cutoff=40)])
+    want = pl.shade_reference(p, n, steps=Steps(spot=mistakes.spot_cone_degrees), **spot_args)
+    got = spot_cutoff_in_degrees(p, n, **spot_args)
+    assert np.array_equal(got.color, want.color) and not np.array_equal(got.color,
+                                                                        pl.shade_reference(p, n, **spot_args).color)
+    args["lights"] = [AMBIENT, pl.PointLight(position=(3, 1, 0), attenuation=(0.5, 0.1, 0.05))]  # f != 1
     for variant, steps in changed.items():
         want = pl.shade_reference(p, n, steps=steps, **args)
         got = variant(p, n, **args)

@@ -18,7 +18,7 @@ from pathlib import Path
 __all__ = ["make_app", "serve"]
 
 
-def make_app(target, *, export_dir="phonglab-exports"):
+def make_app(target, *, export_dir="phonglab-exports", allow_student_code=False):
     """A factory ``name -> LessonApp`` for :class:`~phonglab.app.server.SessionServer`.
 
     Parameters
@@ -27,6 +27,9 @@ def make_app(target, *, export_dir="phonglab-exports"):
         A lessons folder, a lesson (``.md``) or a scene (``.toml``).
     export_dir : path
         Where the page's export button writes figures.
+    allow_student_code : bool
+        Show the "Your code" panel, which runs students' code on this server
+        in the grader's sandbox (:mod:`phonglab.app.student_code`). Off by default.
     """
     from trame.app import get_server
 
@@ -36,13 +39,13 @@ def make_app(target, *, export_dir="phonglab-exports"):
 
     def build(name):
         server = get_server(name, client_type="vue3")
-        return LessonApp(server, target=target, export_dir=export_dir)
+        return LessonApp(server, target=target, export_dir=export_dir, allow_student_code=allow_student_code)
 
     return build
 
 
 def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phonglab-exports", on_ready=None,
-          allow_origins=(), max_sessions: int | None = None) -> None:
+          allow_origins=(), max_sessions: int | None = None, allow_student_code=False) -> None:
     """Serve the lessons at ``target`` until interrupted.
 
     Parameters
@@ -66,7 +69,7 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phon
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     try:
         limits = {} if max_sessions is None else {"max_sessions": max_sessions}
-        server = SessionServer(make_app(target, export_dir=export_dir), allow_origins=allow_origins, **limits)
+        server = SessionServer(make_app(target, export_dir=export_dir, allow_student_code=allow_student_code), allow_origins=allow_origins, **limits)
         asyncio.run(server.run(host, port, on_ready=on_ready))
     finally:
         # the accuracy lesson's worker processes, if any were started

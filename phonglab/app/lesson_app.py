@@ -40,6 +40,8 @@ from phonglab.app import controls as ctl
 from phonglab.app.control import ControlError, finite3, format_value
 from phonglab.app import page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
+from phonglab.app.check_question import CheckPanel
+from phonglab.app.student_code import StudentCodePanel
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
@@ -90,7 +92,7 @@ class LessonApp(TrameApp):
         Where the export button writes figures.
     """
 
-    def __init__(self, server=None, *, target, export_dir="phonglab-exports"):
+    def __init__(self, server=None, *, target, export_dir="phonglab-exports", allow_student_code=False):
         super().__init__(server)
         self.server.enable_module(MODULE)
         self.export_dir = Path(export_dir)
@@ -110,6 +112,8 @@ class LessonApp(TrameApp):
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
         self.accuracy = AccuracyPanel(self.state, self.notify)
+        self.check = CheckPanel(self.state)
+        self.student_code = StudentCodePanel(self.state, allow_student_code)
         self.state.change("view_size")(self._on_view_size)
         # cheaper full synchronisations (after trame-vtk has set up this session)
         sync.install()
@@ -127,6 +131,8 @@ class LessonApp(TrameApp):
             apply_experiment=self.apply_experiment,
             pick=self.on_pick,
             camera=self.on_camera,
+            check_answer=self.check.submit,
+            student_code=self.student_code.submit if allow_student_code else None,
         ))
         self.open_lesson(first)
 
@@ -167,6 +173,7 @@ class LessonApp(TrameApp):
         s.lesson_number = entry.number
         s.show_answer = False
         s.notice = None
+        self.check.open(entry.lesson if entry.ok else None)
         if not entry.ok:
             s.lesson_errors = entry.errors or ["this file has no scene"]
             s.lesson_html = ""

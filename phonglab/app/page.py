@@ -30,6 +30,7 @@ from trame.widgets import vuetify3 as v3
 
 from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
 from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
+from phonglab.app import check_question, student_code
 from phonglab.app.client import ColorPush
 from phonglab.app.control import Control
 from phonglab.app.controls import TERMS
@@ -83,6 +84,8 @@ class Handlers:
     apply_experiment: Callable  #: ``(index)``: an experiment's Apply button
     pick: Callable  #: ``(event)``: a click on the view (``event["ray"]``)
     camera: Callable  #: ``(camera)``: the browser's camera after a turn or zoom
+    check_answer: Callable | None = None  #: ``(answer)``: the check question's Check button
+    student_code: Callable | None = None  #: ``(code)``: "Grade my code"; None: no panel (the default)
 
 
 def build_page(server, render_window, handlers: Handlers):
@@ -190,9 +193,14 @@ class _Page:
                 with html.Div(v_if="question_html", classes="phonglab-question"):
                     html.H3("Check yourself")
                     html.Div(v_html=("question_html",))
+                    if self.handlers.check_answer is not None:  # answer first, then the explanation
+                        check_question.build(self.handlers.check_answer)
                     v3.VBtn("{{ show_answer ? 'Hide answer' : 'Show answer' }}", size="small", variant="text",
+                            v_if=check_question.REVEAL_IF,
                             color="primary", click="show_answer = !show_answer", classes="phonglab-answer-btn px-0")
                     html.Div(v_if="show_answer", v_html=("answer_html",), classes="phonglab-answer")
+                if self.handlers.student_code is not None:  # only with phonglab serve --allow-student-code
+                    student_code.build(self.handlers.student_code)
 
     def _view_column(self):
         with html.Div(classes="phonglab-centre"):

@@ -46,6 +46,13 @@ def add_parser(subparsers):
     parser.add_argument("--max-sessions", type=_max_sessions, default=DEFAULT_MAX_SESSIONS, metavar="N",
                         help=f"browser tabs served at once (default {DEFAULT_MAX_SESSIONS}); "
                              "one more is told the server is full")
+    parser.add_argument("--allow-student-code", action="store_true",
+                        help="show the 'Your code' panel: students paste their shade() and it RUNS ON THIS SERVER "
+                             "(remote code execution by design; for a trusted classroom only). Each paste is graded "
+                             "like `phonglab grade`: a separate python -I process in an empty temporary folder, with "
+                             "CPU, memory and time limits, no file writes, no network where a network namespace can "
+                             "be made, and an audit hook refusing files outside its folder, programs, sockets and "
+                             "ctypes. Audit hooks are not a security boundary: run the server in a container too")
     return parser
 
 
@@ -135,6 +142,9 @@ def run(args) -> int:
     if not _is_loopback(host):
         print(f"phonglab serve: warning: listening on {host}: other machines can reach this server",
               file=sys.stderr)
+    if args.allow_student_code:
+        print("phonglab serve: warning: --allow-student-code: students' code runs on this server, in the "
+              "grader's sandbox; for a trusted classroom only", file=sys.stderr)
 
     def ready(port):
         shown = f"[{host}]" if ":" in host else host
@@ -144,7 +154,8 @@ def run(args) -> int:
 
     try:
         serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready,
-              allow_origins=args.allow_origin, max_sessions=args.max_sessions)
+              allow_origins=args.allow_origin, max_sessions=args.max_sessions,
+              allow_student_code=args.allow_student_code)
     except socket.gaierror as exc:  # a host name or address that does not resolve
         raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror or exc}") from None
     except OSError as exc:

@@ -15,9 +15,13 @@ lines; it *is* the model. The fast kernel :func:`~phonglab.core.shade`
 computes the same sum in blocks, with planned shortcuts and more careful
 arithmetic, and the tests hold it to this one.
 
-Three steps of the sum are parameters (:class:`Steps`): the normal, the
-diffuse weight and the specular weight. Their correct forms are
-:func:`unit_normal`, :func:`lambert` and :func:`specular_lobe`;
+Nine steps of the sum are parameters (:class:`Steps`): the normal, the
+direction and distance to a light, the direction to the eye, the mirror
+vector, the spotlight factor, the ambient term, the diffuse weight and the
+specular weight. Their correct forms are :func:`unit_normal`,
+:func:`light_vector`, :func:`view_vector`, :func:`~phonglab.core.reflect`,
+:func:`spot_cone`, :func:`ambient_term`, :func:`lambert` and
+:func:`specular_lobe`;
 :mod:`phonglab.teaching.mistakes` swaps one of them for a classic wrong
 version to show what that bug looks like.
 """
@@ -35,7 +39,8 @@ from .physics import attenuation, face_forward, spot_factor
 from .shading import Shading
 from .vectors import dot, normalize, reflect, unit_direction, working_dtype
 
-__all__ = ["Steps", "shade_reference", "unit_normal", "lambert", "specular_lobe"]
+__all__ = ["Steps", "shade_reference", "unit_normal", "lambert", "specular_lobe", "light_vector", "view_vector",
+           "spot_cone", "ambient_term"]
 
 
 # ---------------------------------------------------------------------------
@@ -63,6 +68,37 @@ def specular_lobe(nl, c, shininess):
     return np.where(lit, np.maximum(c, 0) ** shininess, 0)
 
 
+def light_vector(to_light):
+    """The direction to a positioned light: ``l = normalize(position − p)`` and the distance ``d``.
+
+    ``to_light`` is ``position − p``, shape ``(..., 3)``; returns ``(l, d)``.
+    """
+    return normalize(to_light, return_length=True)
+
+
+def view_vector(points, eye):
+    """The direction to the eye, from the point: ``v = normalize(eye − p)``."""
+    return normalize(eye - points)
+
+
+def spot_cone(cos_axis, *, cutoff, exponent):
+    """The spotlight factor: ``max(0, −l·s)^e`` inside the cone ``−l·s ≥ cos(cutoff)``, else 0.
+
+    The cutoff is an angle in degrees, compared through its cosine
+    (:func:`~phonglab.core.spot_factor`).
+    """
+    return spot_factor(cos_axis, cutoff=cutoff, exponent=exponent)
+
+
+def ambient_term(ka_ia, f_lights):
+    """The ambient term ``k_a ∘ I_a``: the same at every point, whatever the lights' attenuation.
+
+    ``f_lights`` lists each positioned light's ``f``, shape ``(..., 1)``; the
+    correct ambient term does not use them.
+    """
+    return ka_ia
+
+
 @dataclass(frozen=True)
 class Steps:
     """The steps of :func:`shade_reference` that can be replaced.
@@ -72,6 +108,18 @@ class Steps:
     normal : callable ``normals -> n``
         Turns the given normals, shape ``(..., 3)``, into the ``n`` of the
         sum. Default :func:`unit_normal`.
+    light : callable ``position − p -> (l, d)``
+        The direction ``l`` and distance ``d`` to a point or spot light.
+        Default :func:`light_vector`.
+    view : callable ``(points, eye) -> v``
+        The direction to a local viewer. Default :func:`view_vector`.
+    mirror : callable ``(l, n) -> r``
+        The mirror vector of Phong. Default :func:`~phonglab.core.reflect`.
+    spot : callable ``(cos_axis, *, cutoff, exponent) -> factor``
+        The spotlight factor from ``−l·s``. Default :func:`spot_cone`.
+    ambient : callable ``(ka_ia, f_lights) -> ambient``
+        The ambient term from ``k_a ∘ I_a`` (shape (3,)) and the positioned
+        lights' ``f``. Default :func:`ambient_term`.
     diffuse_weight : callable ``nl -> weight``
         The factor of ``k_d ∘ I_d`` from ``n·l``, shape ``(...)``. Default
         :func:`lambert`.
@@ -81,6 +129,11 @@ class Steps:
     """
 
     normal: Callable = unit_normal
+    light: Callable = light_vector
+    view: Callable = view_vector
+    mirror: Callable = reflect
+    spot: Callable = spot_cone
+    ambient: Callable = ambient_term
     diffuse_weight: Callable = lambert
     specular_weight: Callable = specular_lobe
 
@@ -159,7 +212,7 @@ def shade_reference(
     # the normal, and the direction to the eye
     n = steps.normal(normals)
     if eye is not None:
-        v = normalize(np.asarray(eye, dtype) - points)
+        v = steps.view(points, np.asarray(eye, dtype))
     else:
         v = np.broadcast_to(unit_direction(view_direction, dtype), points.shape)
     if two_sided:
@@ -170,11 +223,12 @@ def shade_reference(
     for light in lights:
         if isinstance(light, AmbientLight):
             ia += light.ambient_rgb
-    ambient = np.broadcast_to((np.asarray(material.ka) * ia).astype(dtype), points.shape)
+    ka_ia = np.asarray(material.ka) * ia
     emission = np.broadcast_to(np.asarray(material.emission, dtype), points.shape)
 
     diffuse = np.zeros(points.shape, dtype)
     specular = np.zeros(points.shape, dtype)
+    f_lights = []  # each positioned light's f, for the ambient step
     for light in lights:
         if isinstance(light, AmbientLight):
             continue
@@ -183,12 +237,14 @@ def shade_reference(
             l = np.broadcast_to(unit_direction(light.direction, dtype), points.shape)
             f = np.ones(points.shape[:-1], dtype)
         else:
-            l, dist = normalize(np.asarray(light.position, dtype) - points, return_length=True)
+            l, dist = steps.light(np.asarray(light.position, dtype) - points)
             f = attenuation(dist, light.attenuation)
             if isinstance(light, SpotLight):
                 axis = unit_direction(light.direction, dtype)
-                f = f * spot_factor(-dot(l, axis), cutoff=light.cutoff, exponent=light.exponent)
+                f = f * steps.spot(-dot(l, axis), cutoff=light.cutoff, exponent=light.exponent)
         f = f[..., None]
+        if not isinstance(light, DirectionalLight):
+            f_lights.append(f)
         nl = dot(n, l)
 
         # diffuse: k_d ∘ I_d times the diffuse weight
@@ -197,11 +253,13 @@ def shade_reference(
 
         # specular: k_s ∘ I_s times the specular weight of c = r·v or n·h
         if model == "phong":
-            c = dot(reflect(l, n), v)
+            c = dot(steps.mirror(l, n), v)
         else:
             c = dot(n, normalize(l + v))
         ks_is = np.asarray(material.ks) * np.asarray(light.specular_rgb)
         specular += (f * ks_is * steps.specular_weight(nl, c, material.shininess)[..., None]).astype(dtype)
 
+    # ambient: k_a ∘ I_a, the same at every point
+    ambient = np.broadcast_to(steps.ambient(ka_ia, f_lights).astype(dtype), points.shape)
     color = ambient + emission + diffuse + specular
     return Shading(ambient=ambient, diffuse=diffuse, specular=specular, emission=emission, color=color)

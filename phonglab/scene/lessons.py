@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from phonglab.scene.build import Problems, scene_parts
+from phonglab.scene.check import build_check
 from phonglab.scene.checks import check_choice, check_int, check_text
 from phonglab.scene.editing import settings_problems
 from phonglab.scene.errors import SceneError, SceneErrors, join_path
@@ -159,6 +160,7 @@ def _read_lesson(path) -> _Reading:
         from phonglab.teaching.mistakes import MISTAKES
 
         mistake = problems.run(check_choice, "mistake", mistake, tuple(MISTAKES))
+    check = build_check(data["check"], problems, question=texts["question"]) if "check" in data else None
     controls = _build_controls(data.get("controls", []), scene, problems)
     experiments = []
     raw_experiments = data.get("experiments", [])
@@ -189,6 +191,7 @@ def _read_lesson(path) -> _Reading:
         answer=texts["answer"],
         mistake=mistake,
         claims=tuple(claims),
+        check=check,
     )
     return reading
 
@@ -199,8 +202,8 @@ def load_lesson(path) -> Lesson:
     The front matter holds a scene (as in a scene file) and the lesson's
     keys: ``number`` (default: the file name's leading digits), ``goal``,
     ``controls`` (field paths), ``[[experiments]]`` with ``label``, ``text``
-    and ``set = {"material.shininess" = 10}``, ``question``, ``answer`` and
-    ``mistake``. ``title`` defaults to the body's first ``#`` heading.
+    and ``set = {"material.shininess" = 10}``, ``question``, ``answer``,
+    ``mistake`` and an answerable ``[check]`` (:mod:`phonglab.scene.check`). ``title`` defaults to the body's first ``#`` heading.
 
     Raises
     ------

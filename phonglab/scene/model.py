@@ -170,6 +170,8 @@ class Lesson:
         Name of a "common mistake" variant to show, if any.
     claims : tuple of phonglab.scene.claims.Claim
         Sentences of the lesson with the checks the test suite runs on its scene.
+    check : CheckQuestion or None
+        An answerable question the page marks (:mod:`phonglab.scene.check`).
     """
 
     path: str
@@ -184,6 +186,7 @@ class Lesson:
     answer: str = ""
     mistake: str | None = None
     claims: tuple = ()
+    check: object = None
 
     def __post_init__(self):
         object.__setattr__(self, "controls", tuple(self.controls))

@@ -42,7 +42,7 @@ SCENE_DEFAULTS = {"title": "", "model": "phong", "interpolation": "gouraud", "tw
 SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "geometry", "material", "lights", "camera",
               "area_light")
 #: further top-level keys of a lesson's front matter
-LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake", "claims")
+LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake", "claims", "check")
 GEOMETRY_KEYS = ("kind", "resolution", "name", "path")
 MATERIAL_KEYS = ("ka", "kd", "ks", "shininess", "emission", "opacity")
 MATERIAL_REQUIRED = ("ka", "kd", "ks", "shininess")
@@ -50,6 +50,11 @@ CAMERA_KEYS = ("eye", "focal_point", "up", "view_angle", "infinite_viewer")
 #: the [area_light] table: the core AreaLight's fields, then how it is evaluated
 AREA_LIGHT_KEYS = ("position", "edge_u", "edge_v", "color", "intensity", "method", "samples")
 EXPERIMENT_KEYS = ("label", "text", "set")
+#: a lesson's [check] table (phonglab.scene.check): multiple choice or a number
+CHECK_CHOICE_KEYS = ("question", "choices", "correct", "feedback")
+CHECK_NUMERIC_KEYS = ("question", "numeric", "tolerance", "feedback_low", "feedback_high", "feedback_right")
+CHECK_KEYS = ("question", "choices", "correct", "feedback", "numeric", "tolerance", "feedback_low", "feedback_high",
+              "feedback_right")
 #: light type -> keys allowed in its table (besides "type")
 LIGHT_KEYS = {
     "ambient": ("color", "intensity"),

@@ -157,6 +157,10 @@ def _specular() -> tuple[Case, ...]:
              (_point(_towards(OFF, *frame(TILTED), 30, 3), specular=(1.0, 0.5, 0.2)),)),
         Case("specular only (kd = 0), α = 1", ORIGIN, UP, _towards(ORIGIN, z, -ex, 20, 4),
              pl.Material(ka=0, kd=0, ks=0.8, shininess=1), (_point(_towards(ORIGIN, z, ex, 50, 3)),)),
+        # max(0, r·v)^α, not max(0, (r·v)^α): with an even α the power of r·v = −0.77 is positive
+        Case("eye on the light's side, r·v = cos 140° < 0, α = 2: clamp before the power", ORIGIN, UP,
+             _towards(ORIGIN, z, ex, 80, 4), pl.Material(ka=0.1, kd=0.3, ks=0.6, shininess=2),
+             (_point(_towards(ORIGIN, z, ex, 60, 3)),)),
     )
 
 

@@ -123,6 +123,7 @@ class Diagnosis:
     right: str
     matched: int  # failing cases it matches
     failing: int  # failing cases with a number to compare
+    equally: tuple[str, ...] = ()  # other mistakes matching the same number of cases: the cases cannot tell them apart
 
 
 @dataclass(frozen=True)
@@ -167,7 +168,7 @@ class Report:
     @property
     def diagnosis(self) -> list[str]:
         """The names of the mistakes found, each once, in group order."""
-        names = [g.diagnosis.name for g in self.groups if g.diagnosis]
+        names = [name for g in self.groups if g.diagnosis for name in (g.diagnosis.name, *g.diagnosis.equally)]
         return list(dict.fromkeys(names))
 
 
@@ -186,24 +187,35 @@ def diagnose(group: Group, results) -> Diagnosis | None:
     Every mistake of :data:`~phonglab.teaching.MISTAKES` is evaluated on the
     group's failing cases that returned a number; it matches a case when the
     student's colour is within the group's tolerance of the mistake's. The
-    mistake matching the most cases wins (the catalogue's order breaks ties),
-    provided it matches more than half of them.
+    mistake matching the most cases wins, provided it matches more than half
+    of them; between mistakes that match as many, the one that also gives
+    the student's right answers (on the group's passing cases) wins. Mistakes that match as many
+    cases are named too (``equally``): for one-sided Phong, for instance, a
+    reversed ``r`` and a reversed ``v`` give the same ``r·v``.
     """
     wrong = [r for r in results if not r.passed and r.got is not None]
     if not wrong:
         return None
-    best, best_count = None, 0
-    for mistake in MISTAKES.values():
+    right = [r for r in results if r.passed]
+
+    def matches(mistake, rs):
         count = 0
-        for r in wrong:
+        for r in rs:
             mine = _mistake_color(mistake, r.case)
             if mine is not None and within(mine, r.got, group.rtol, group.atol):
                 count += 1
-        if count > best_count:
-            best, best_count = mistake, count
-    if best is None or 2 * best_count <= len(wrong):
+        return count
+
+    # the wrong answers it explains, then (to break a tie) the right answers it also gives
+    counts = {m.name: (matches(m, wrong), 0) for m in MISTAKES.values()}
+    best_count = max(c for c, _ in counts.values())
+    if 2 * best_count <= len(wrong):
         return None
-    return Diagnosis(best.name, best.title, best.looks_like, best.wrong, best.right, best_count, len(wrong))
+    counts = {name: (c, matches(MISTAKES[name], right)) for name, (c, _) in counts.items() if c == best_count}
+    top = max(counts.values())
+    best, *equally = [MISTAKES[name] for name, count in counts.items() if count == top]
+    return Diagnosis(best.name, best.title, best.looks_like, best.wrong, best.right, best_count, len(wrong),
+                     tuple(m.name for m in equally))
 
 
 def grade(outcomes, groups=GROUPS, *, source: str = "", isolation=()) -> Report:
@@ -316,6 +328,11 @@ def group_text(g: GroupResult) -> str:
         lines.append(f"    wrong: {d.wrong}")
         lines.append(f"    right: {d.right}")
         lines.append(f"    what it looks like: {d.looks_like}")
+        for name in d.equally:
+            m = MISTAKES[name]
+            lines.append(f"  or, with the same numbers in every case here, the mistake \"{name}\" ({m.title})")
+            lines.append(f"    wrong: {m.wrong}")
+            lines.append(f"    right: {m.right}")
     return "\n".join(lines)
 
 

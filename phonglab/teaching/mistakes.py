@@ -10,7 +10,7 @@ Each variant takes the inputs of :func:`phonglab.core.shade` (``points``,
 ``model``, ``two_sided``) and returns the same :class:`phonglab.core.Shading`.
 Each is the core's reference kernel, :func:`phonglab.core.shade_reference`
 (the model written one light at a time), with one line changed: one of its
-three :class:`~phonglab.core.Steps` swapped for a wrong one.
+:class:`~phonglab.core.Steps` swapped for a wrong one.
 
 =========================  ===================================================
 step                       correct version / wrong version
@@ -39,7 +39,16 @@ from typing import Callable
 import numpy as np
 
 from phonglab.core.reference import Steps, shade_reference
-from phonglab.core.reference import lambert, specular_lobe, unit_normal  # noqa: F401  (the correct steps, shown here)
+from phonglab.core.reference import (  # noqa: F401  (the correct steps, shown here)
+    ambient_term,
+    lambert,
+    light_vector,
+    specular_lobe,
+    spot_cone,
+    unit_normal,
+    view_vector,
+)
+from phonglab.core.vectors import dot, normalize, reflect  # noqa: F401  (reflect: the correct mirror step)
 
 __all__ = [
     "Mistake",
@@ -49,6 +58,13 @@ __all__ = [
     "ungated_specular",
     "unnormalised_normals",
     "zero_shininess",
+    "reflect_wrong_way",
+    "unnormalised_light",
+    "unnormalised_view",
+    "view_from_eye",
+    "attenuated_ambient",
+    "spot_cutoff_in_degrees",
+    "power_before_max",
 ]
 
 
@@ -84,10 +100,58 @@ def specular_lobe_zero_exponent(nl, c, shininess):
     return np.where(nl > 0, np.maximum(c, 0) ** 0.0, 0)
 
 
+def reflect_reversed(l, n):
+    """WRONG mirror vector: ``r = l − 2(n·l)n``, the true ``r`` turned round (correct: ``reflect``)."""
+    return l - 2 * dot(n, l)[..., None] * n
+
+
+def light_vector_raw(to_light):
+    """WRONG light vector: ``l = position − p`` as it is, longer or shorter than 1 (correct: :func:`light_vector`)."""
+    return to_light, np.sqrt(np.sum(to_light * to_light, axis=-1))
+
+
+def view_vector_raw(points, eye):
+    """WRONG view vector: ``v = eye − p``, not normalised (correct: :func:`view_vector`)."""
+    return eye - points
+
+
+def view_from_eye_step(points, eye):
+    """WRONG view vector: ``v = normalize(p − eye)``, from the eye to the point (correct: :func:`view_vector`)."""
+    return normalize(points - eye)
+
+
+def ambient_attenuated(ka_ia, f_lights):
+    """WRONG ambient term: ``f · k_a ∘ I_a`` with the first lamp's ``f`` (correct: :func:`ambient_term`)."""
+    return ka_ia * f_lights[0] if f_lights else ka_ia
+
+
+def spot_cone_degrees(cos_axis, *, cutoff, exponent):
+    """WRONG spotlight cone: ``−l·s ≥ cutoff``, a cosine against an angle in degrees (correct: :func:`spot_cone`).
+
+    ``cutoff = 180`` stays a plain point light, as in the correct step.
+    """
+    if cutoff == 180:
+        return np.ones_like(cos_axis)
+    return np.where(cos_axis >= cutoff, np.maximum(cos_axis, 0) ** exponent, 0).astype(cos_axis.dtype)
+
+
+def specular_lobe_power_first(nl, c, shininess):
+    """WRONG specular weight: ``max(0, c^α)`` where ``n·l > 0``: the power before the max.
+
+    For an even α, ``c^α > 0`` where ``c < 0`` too; for an odd α it is
+    negative there and the max removes it; for a fractional α the power of a
+    negative ``c`` is not a real number (NaN here, taken as 0 by ``fmax``).
+    Correct: :func:`specular_lobe`, ``max(0, c)^α``.
+    """
+    with np.errstate(invalid="ignore"):
+        return np.where(nl > 0, np.fmax(c ** shininess, 0), 0)
+
+
 def _with_step(points, normals, shade_args, **step):
     """The reference kernel with one step replaced; ``plan=`` is accepted and ignored."""
     shade_args.pop("plan", None)  # every term is evaluated
-    return shade_reference(points, normals, steps=Steps(**step), **shade_args)
+    with np.errstate(over="ignore"):  # a wrong length raised to α may overflow: inf is what the bug gives
+        return shade_reference(points, normals, steps=Steps(**step), **shade_args)
 
 
 # ---------------------------------------------------------------------------
@@ -188,6 +252,162 @@ def zero_shininess(points, normals, **shade_args):
     return _with_step(points, normals, shade_args, specular_weight=specular_lobe_zero_exponent)
 
 
+def reflect_wrong_way(points, normals, **shade_args):
+    """The mirror vector turned round, ``r = l − 2(n·l)n``: the highlight in the wrong place.
+
+    **What is wrong.** The reflection of ``l`` is written with its sign
+    reversed (the textbook formula for the *incoming* direction ``−l``,
+    applied to ``l`` that points away from the surface)::
+
+        r = l - 2 * dot(n, l) * n                     # wrong: −r
+
+    ``r·v`` then changes sign: the eye on the true mirror direction sees no
+    highlight, and a highlight appears where ``r·v < 0``: for a convex object
+    lit from near the eye, a bright rim at the silhouette instead of a spot
+    in the middle.
+
+    **The correct line.** ``r`` points away from the surface, like ``l``::
+
+        r = 2 * dot(n, l) * n - l                     # right
+
+    Only the Phong model uses ``r``; Blinn-Phong is unchanged.
+    Parameters and returns are those of :func:`phonglab.core.shade`.
+    """
+    return _with_step(points, normals, shade_args, mirror=reflect_reversed)
+
+
+def unnormalised_light(points, normals, **shade_args):
+    """The light vector not normalised: brightness that grows with the distance to the lamp.
+
+    **What is wrong.** The direction to a point light is used without
+    dividing by its length::
+
+        l = light.position - p                        # wrong: |l| = d
+
+    ``n·l`` is then ``d cos θ``: a lamp 3 units away makes the diffuse light 3
+    times too bright, far points brighter than near ones, and ``r`` is no
+    longer a unit vector, so the highlight swells or vanishes.
+
+    **The correct line.** A direction is a unit vector::
+
+        l = normalize(light.position - p)             # right
+
+    Directional lights are unchanged (their direction is normalised apart).
+    Parameters and returns are those of :func:`phonglab.core.shade`.
+    """
+    return _with_step(points, normals, shade_args, light=light_vector_raw)
+
+
+def unnormalised_view(points, normals, **shade_args):
+    """The view vector not normalised: a highlight that grows with the distance to the eye.
+
+    **What is wrong.** The direction to the eye is used without dividing by
+    its length::
+
+        v = eye - p                                   # wrong: |v| = distance to the eye
+
+    ``r·v`` is then the distance times the cosine: raised to α it explodes
+    (an eye 5 units away makes the peak ``5^α`` times too bright) and the
+    highlight becomes a huge saturated blob.
+
+    **The correct line.**::
+
+        v = normalize(eye - p)                        # right
+
+    Parameters and returns are those of :func:`phonglab.core.shade`; an
+    infinite viewer is unchanged.
+    """
+    return _with_step(points, normals, shade_args, view=view_vector_raw)
+
+
+def view_from_eye(points, normals, **shade_args):
+    """The view vector from the eye to the point, ``v = p − eye``: no highlight where it belongs.
+
+    **What is wrong.** ``v`` is taken along the line of sight, from the eye
+    towards the surface, instead of away from the surface::
+
+        v = normalize(p - eye)                        # wrong: −v
+
+    ``r·v`` changes sign: where the eye is on the mirror direction the
+    highlight disappears, and with lighting from near the eye a highlight
+    rim appears at the silhouette instead.
+
+    **The correct line.** Every direction points away from the surface::
+
+        v = normalize(eye - p)                        # right
+
+    Parameters and returns are those of :func:`phonglab.core.shade`; an
+    infinite viewer is unchanged.
+    """
+    return _with_step(points, normals, shade_args, view=view_from_eye_step)
+
+
+def attenuated_ambient(points, normals, **shade_args):
+    """The lamp's distance attenuation applied to the ambient light too.
+
+    **What is wrong.** The attenuation factor ``f`` multiplies the whole sum,
+    ambient term included::
+
+        I = ke + f * (ka * Ia + kd * Id * max(0, dot(n, l)) + ...)   # wrong
+
+    The ambient light stands for light scattered everywhere in the room; it
+    does not come from the lamp, so it must not fade with the distance to it.
+    With ``f`` applied, far parts of the scene lose their ambient floor and
+    turn black, and a close lamp (``f > 1``) brightens the ambient light.
+
+    **The correct line.** Only the lamp's own light is attenuated::
+
+        I = ke + ka * Ia + f * (kd * Id * max(0, dot(n, l)) + ...)   # right
+
+    With several lamps, the first point or spot light's ``f`` is taken.
+    Parameters and returns are those of :func:`phonglab.core.shade`.
+    """
+    return _with_step(points, normals, shade_args, ambient=ambient_attenuated)
+
+
+def spot_cutoff_in_degrees(points, normals, **shade_args):
+    """The spotlight's cosine compared with its cutoff in degrees: the spot never lights anything.
+
+    **What is wrong.** The cosine of the angle to the axis is compared with
+    the cutoff angle itself, in degrees::
+
+        inside = dot(-l, s) >= light.cutoff           # wrong: a cosine against 30 (degrees)
+
+    A cosine is at most 1, so for any cutoff above 1° no point is ever inside
+    the cone: the spotlight adds nothing at all (only ``cutoff = 180``, a
+    plain point light, still lights).
+
+    **The correct line.** Compare cosines with cosines::
+
+        inside = dot(-l, s) >= cos(radians(light.cutoff))   # right
+
+    Parameters and returns are those of :func:`phonglab.core.shade`.
+    """
+    return _with_step(points, normals, shade_args, spot=spot_cone_degrees)
+
+
+def power_before_max(points, normals, **shade_args):
+    """The shininess power taken before the max: a ghost highlight where ``r·v < 0``.
+
+    **What is wrong.** The clamp is applied after raising to α::
+
+        specular = ks * Is * max(0, dot(r, v) ** alpha)   # wrong
+
+    Where ``r·v < 0`` an even α makes ``(r·v)^α`` positive: a second, ghost
+    highlight appears where ``r`` points away from the eye, for a sphere lit
+    from near the eye a bright rim at the silhouette. An odd α hides the
+    bug (the power stays negative and the max removes it), and a fractional α
+    raises a negative number to a fractional power: NaN, or an error.
+
+    **The correct line.** Clamp the cosine, then raise it::
+
+        specular = ks * Is * max(0, dot(r, v)) ** alpha   # right
+
+    Parameters and returns are those of :func:`phonglab.core.shade`.
+    """
+    return _with_step(points, normals, shade_args, specular_weight=specular_lobe_power_first)
+
+
 @dataclass(frozen=True)
 class Mistake:
     """A named common mistake, as a lesson's ``mistake = "..."`` refers to it.
@@ -255,6 +475,67 @@ MISTAKES = {
             "specular = ks * Is * max(0, dot(r, v)) ** 0",
             "specular = ks * Is * max(0, dot(r, v)) ** material.shininess",
             zero_shininess,
+        ),
+        Mistake(
+            "reflect-wrong-way",
+            "Reflection vector pointing the wrong way",
+            "The highlight is missing where the eye sees the light mirrored, and a bright rim "
+            "appears at the silhouette instead.",
+            "r = l - 2 * dot(n, l) * n",
+            "r = 2 * dot(n, l) * n - l",
+            reflect_wrong_way,
+        ),
+        Mistake(
+            "unnormalised-light",
+            "Light vector not normalised",
+            "The surface is far too bright, brighter the further it is from the lamp, "
+            "and the highlight swells or vanishes.",
+            "l = light.position - p",
+            "l = normalize(light.position - p)",
+            unnormalised_light,
+        ),
+        Mistake(
+            "unnormalised-view",
+            "View vector not normalised",
+            "The highlight blows up into a huge saturated blob (r·v grows with the distance to the eye).",
+            "v = eye - p",
+            "v = normalize(eye - p)",
+            unnormalised_view,
+        ),
+        Mistake(
+            "view-from-eye",
+            "View vector from the eye to the point",
+            "No highlight where the light is mirrored towards the eye; a bright rim at the silhouette "
+            "instead when the lamp is near the eye.",
+            "v = normalize(p - eye)",
+            "v = normalize(eye - p)",
+            view_from_eye,
+        ),
+        Mistake(
+            "attenuated-ambient",
+            "Attenuation applied to the ambient light",
+            "Parts far from the lamp lose their ambient floor and turn black; a close lamp brightens "
+            "the ambient light.",
+            "I = ke + f * (ka * Ia + kd * Id * max(0, dot(n, l)) + ...)",
+            "I = ke + ka * Ia + f * (kd * Id * max(0, dot(n, l)) + ...)",
+            attenuated_ambient,
+        ),
+        Mistake(
+            "spot-cutoff-in-degrees",
+            "Spotlight cosine compared with the cutoff in degrees",
+            "The spotlight lights nothing at all: a cosine is never above a cutoff of 30 (degrees).",
+            "inside = dot(-l, s) >= light.cutoff",
+            "inside = dot(-l, s) >= cos(radians(light.cutoff))",
+            spot_cutoff_in_degrees,
+        ),
+        Mistake(
+            "power-before-max",
+            "Shininess power before the max",
+            "A ghost highlight where r points away from the eye (for an even α): a bright rim at the "
+            "silhouette of a sphere lit from near the eye.",
+            "specular = ks * Is * max(0, dot(r, v) ** alpha)",
+            "specular = ks * Is * max(0, dot(r, v)) ** alpha",
+            power_before_max,
         ),
     )
 }

@@ -1,0 +1,122 @@
+"""The graded exercise's picture: a student's shading of a sphere beside the core's, and their difference.
+
+The sphere is ray-cast exactly (:mod:`phonglab.accuracy.raycast`); the core
+shades every hit point and the student's ``shade`` runs on the same points
+in its sandbox (:class:`phonglab.teaching.sandbox.Sandbox`), in batches with
+a time limit each. ``phonglab grade --picture`` writes :func:`picture_png`
+to a file; the page's "Your code" panel shows it.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["PICTURE_SIZE", "DIFFERENCE_RANGE", "picture_scene", "sphere_images", "picture_png"]
+
+#: the picture: a unit sphere seen from (0, 0, 4), lit from the front-right and,
+#: to show the mistakes, from behind (no-clamp darkens the front, ungated glows on the rim)
+PICTURE_SIZE = 96
+#: how long one point may take in the picture's batches, on top of the per-case limit
+PICTURE_SECONDS_PER_POINT = 0.01
+PICTURE_BATCH = 256
+#: the difference map's log scale: |difference| from the first to the second value
+DIFFERENCE_RANGE = (1e-4, 1.0)
+
+
+
+def picture_scene():
+    """The material, lights and view of the picture."""
+    from phonglab import core as pl
+    from phonglab.accuracy.raycast import View
+
+    material = pl.Material(ka=(0.25, 0.3, 0.4), kd=(0.55, 0.6, 0.75), ks=0.6, shininess=30)
+    lights = (pl.AmbientLight(intensity=0.3),
+              pl.PointLight(position=(2.5, 2.0, 3.0)),
+              pl.DirectionalLight(direction=(-0.6, 0.3, -1.0), color=(1.0, 0.8, 0.5), intensity=0.8))
+    view = View(eye=(0.0, 0.0, 4.0), view_angle=32.0, width=PICTURE_SIZE, height=PICTURE_SIZE)
+    return material, lights, view
+
+
+def sphere_images(file, limits):
+    """The core's and the student's sphere, (h, w, 3) float64 each, NaN where the student gave no colour.
+
+    Returns ``core, student, mask, failures`` with ``failures`` the number of
+    pixels the student's code gave no colour for.
+    """
+    import numpy as np
+
+    from phonglab import core as pl
+    from phonglab.accuracy.raycast import camera_rays, hit_sphere
+    from phonglab.teaching.grading import encode_scene
+    from phonglab.teaching.sandbox import Sandbox
+
+    material, lights, view = picture_scene()
+    points, normals, mask = hit_sphere(camera_rays(view))
+    p, n = points[mask], normals[mask]
+    core = np.full(points.shape, np.nan)
+    core[mask] = pl.shade(p, n, material=material, lights=lights, eye=view.eye, model="phong").color
+    colours = np.full(p.shape, np.nan)
+    scene = encode_scene(material, lights)
+    with Sandbox(file, limits) as box:
+        for start in range(0, len(p), PICTURE_BATCH):
+            stop = min(start + PICTURE_BATCH, len(p))
+            limit = limits.time_limit + (stop - start) * PICTURE_SECONDS_PER_POINT
+            for i, outcome in enumerate(box.evaluate(p[start:stop], n[start:stop], eye=view.eye,
+                                                     scene=scene, time_limit=limit)):
+                if outcome.value is not None:
+                    colours[start + i] = outcome.value
+    student = np.full(points.shape, np.nan)
+    student[mask] = colours
+    failures = int(np.sum(~np.all(np.isfinite(colours), axis=-1)))
+    return core, student, mask, failures
+
+
+def picture_png(file, limits) -> tuple[bytes | None, str]:
+    """``student | core | difference`` as PNG bytes, and a note on pixels without a colour.
+
+    Returns ``(None, reason)`` when a limit stopped the student's code before any picture.
+    """
+    import io
+
+    import numpy as np
+    from matplotlib import colormaps
+    from PIL import Image, ImageDraw, ImageFont
+
+    from phonglab.teaching.sandbox import LoadError
+
+    try:
+        core, student, mask, failures = sphere_images(file, limits)
+    except LoadError as exc:  # loaded for the grading, so only a limit can stop it here
+        return None, f"no picture: {exc}"
+    bad = mask & ~np.all(np.isfinite(student), axis=-1)
+
+    def to_rgb(image):
+        out = np.round(np.clip(np.nan_to_num(image, nan=0.0), 0, 1) * 255).astype(np.uint8)
+        out[~mask] = (26, 26, 30)
+        return out
+
+    lo, hi = DIFFERENCE_RANGE
+    diff = np.max(np.abs(np.nan_to_num(student - core, nan=0.0)), axis=-1)
+    t = (np.log10(np.maximum(diff, lo)) - math.log10(lo)) / (math.log10(hi) - math.log10(lo))
+    diff_rgb = np.round(colormaps["inferno"](np.clip(t, 0, 1))[..., :3] * 255).astype(np.uint8)
+    diff_rgb[~mask] = (128, 128, 136)
+    student_rgb = to_rgb(student)
+    for image in (student_rgb, diff_rgb):
+        image[bad] = (255, 0, 255)  # no colour from the student: an error, NaN or time-out
+
+    size, gap, caption = PICTURE_SIZE * 2, 8, 18
+    canvas = Image.new("RGB", (3 * size + 4 * gap, size + caption + 2 * gap), (255, 255, 255))
+    draw = ImageDraw.Draw(canvas)
+    try:
+        font = ImageFont.load_default(size=12)
+    except TypeError:  # Pillow < 10.1: the bitmap font only
+        font = ImageFont.load_default()
+    worst = float(diff[mask & ~bad].max()) if np.any(mask & ~bad) else 0.0
+    labels = ("your shade()", "phonglab.shade", f"|difference| max {worst:.2g} (log 1e-4..1)")
+    for i, (image, label) in enumerate(zip((student_rgb, to_rgb(core), diff_rgb), labels)):
+        x = gap + i * (size + gap)
+        canvas.paste(Image.fromarray(image).resize((size, size), Image.NEAREST), (x, caption + gap))
+        draw.text((x, 3), label, fill=(0, 0, 0), font=font)
+    buffer = io.BytesIO()
+    canvas.save(buffer, format="PNG")
+    return buffer.getvalue(), (f"{failures} pixels without a colour, shown magenta" if failures else "")

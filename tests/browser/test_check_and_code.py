@@ -1,0 +1,92 @@
+"""In a real browser: a check question marks an answer before the explanation, and the "Your code" panel
+grades a pasted shade() only when the server was started with --allow-student-code.
+
+The server here serves the test lessons with a [check] table added to lesson 1 and the flag on; the
+shared server of conftest.py (no flag) shows no panel.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from waiting import wait_for
+
+from phonglab.bench.scenes import write_lessons
+from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+
+from conftest import Page
+
+CORRECT = Path(__file__).resolve().parents[1] / "data" / "grade" / "correct.py"
+CHECK = """
+[check]
+question = "What is n·l where the normal points straight at the light?"
+choices = ["0", "1", "-1"]
+correct = 1
+feedback = ["0 is where the light grazes the surface.", "Right: cos 0 = 1.", "-1: the light would be behind."]
+"""
+
+
+@pytest.fixture(scope="module")
+def code_server(tmp_path_factory):
+    folder = write_lessons(tmp_path_factory.mktemp("lessons-check"))
+    first = folder / "01-sphere.md"
+    lines = first.read_text().splitlines(keepends=True)
+    closing = [i for i, line in enumerate(lines) if line.strip() == "+++"][1]
+    first.write_text("".join(lines[:closing]) + CHECK + "".join(lines[closing:]))
+    port = free_port()
+    log_path = tmp_path_factory.mktemp("server-code") / "serve.log"
+    process = start_server(serve_command(first, port) + ["--allow-student-code"], log_path=log_path)
+    try:
+        wait_until_serving(process, port, log_path=log_path)
+    except RuntimeError as exc:
+        stop_server(process)
+        pytest.fail(f"phonglab serve --allow-student-code did not start: {exc}")
+    yield {"url": f"http://127.0.0.1:{port}/", "process": process, "log": log_path, "port": port}
+    stop_server(process)
+
+
+@pytest.fixture
+def code_page(browser, code_server):
+    context = browser.new_context(viewport={"width": 1280, "height": 900})
+    page = Page(context.new_page(), code_server)
+    try:
+        yield page.open()
+        assert not page.errors, f"JavaScript errors on the page: {page.errors}"
+        assert code_server["process"].poll() is None, f"the server died:\n{log_tail(code_server['log'])}"
+    finally:
+        context.close()
+
+
+def test_check_question_gives_feedback_then_offers_the_explanation(code_page):
+    page = code_page.page
+    page.wait_for_selector(".phonglab-check-choice", timeout=30_000)
+    assert not page.locator(".phonglab-answer-btn").count(), "the explanation is offered before any answer"
+    page.locator(".phonglab-check-choice", has_text="-1").locator("input").check()
+    page.locator(".phonglab-check-btn").click()
+    feedback = wait_for(lambda: page.locator(".phonglab-check-feedback").all_inner_texts(), "the feedback")
+    assert "Not quite." in feedback[0] and "behind" in feedback[0], feedback
+    assert page.locator(".phonglab-check-wrong").count() == 1
+    page.locator(".phonglab-check-choice", has_text="1").first.locator("input").check()
+    page.locator(".phonglab-check-btn").click()
+    wait_for(lambda: page.locator(".phonglab-check-right").count() == 1, "the answer to be marked right")
+    assert "cos 0 = 1" in page.locator(".phonglab-check-feedback").inner_text()
+    page.locator(".phonglab-answer-btn").click()
+    wait_for(lambda: page.locator(".phonglab-answer").count() == 1, "the explanation")
+
+
+def test_pasting_a_correct_shade_gets_full_marks(code_page):
+    page = code_page.page
+    page.locator(".phonglab-student-code-text textarea").fill(CORRECT.read_text())
+    page.locator(".phonglab-student-code-btn").click()
+    score = wait_for(lambda: page.locator(".phonglab-student-score").all_inner_texts(), "the grade", timeout=240)
+    assert score == ["Score: 100/100"], score
+    assert "Total: 100/100" in page.locator(".phonglab-student-report").inner_text()
+    src = page.locator(".phonglab-student-picture").get_attribute("src")
+    assert src.startswith("data:image/png;base64,"), src[:40]
+
+
+def test_without_the_flag_there_is_no_panel(app_page):
+    assert app_page.state("student_code_enabled") is False
+    assert not app_page.page.locator(".phonglab-student-code").count()
+    assert not app_page.page.locator(".phonglab-student-code-text").count()
