@@ -69,7 +69,8 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phon
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     try:
         limits = {} if max_sessions is None else {"max_sessions": max_sessions}
-        server = SessionServer(make_app(target, export_dir=export_dir, allow_student_code=allow_student_code), allow_origins=allow_origins, **limits)
+        build = make_app(target, export_dir=export_dir, allow_student_code=allow_student_code)
+        server = SessionServer(build, allow_origins=allow_origins, **limits)
         asyncio.run(server.run(host, port, on_ready=on_ready))
     finally:
         # the accuracy lesson's worker processes, if any were started
