@@ -49,6 +49,7 @@ SECTIONS = {
     "[area_light]": set(schema.AREA_LIGHT_KEYS),
     "[[experiments]]": set(schema.EXPERIMENT_KEYS),
     "[[claims]]": set(schema.CLAIM_KEYS),
+    "[check]": set(schema.CHECK_KEYS),
 }
 
 
