@@ -56,7 +56,7 @@ MAX_PIXEL_SIDE = 1600
 #: seconds between sending a view update and refreshing the panels (lets the update leave first)
 PANEL_DELAY = 0.004
 #: scene fields whose change only recolours the mesh (no geometry, arrow or marker moves)
-COLOUR_ONLY_FIELDS = {"material", "model"}
+COLOUR_ONLY_FIELDS = {"material", "model", "display", "exposure"}
 
 
 def _guarded(method):
@@ -512,5 +512,5 @@ class LessonApp(TrameApp):
 
 def _changed(old, new) -> set:
     """The scene's top-level fields that differ."""
-    names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light")
+    names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light", "display", "exposure")
     return {name for name in names if getattr(old, name) != getattr(new, name)}
