@@ -103,3 +103,17 @@ def test_bad_display_options_name_field_value_and_allowed(path, value, words):
         grey_plane().replace(path, value)
     message = str(info.value)
     assert all(w in message for w in words), (path, value, message)
+
+
+def test_display_lessons_grey_patch_is_188_srgb_and_128_linear(tmp_path):
+    from pathlib import Path
+
+    from phonglab.scene import load_lesson
+
+    les = load_lesson(Path(__file__).resolve().parents[1] / "lessons" / "12-display.md")
+    patch = next(e for e in les.experiments if e.label == "The grey patch").apply(les.scene)
+    for display, expected in (("srgb", 188), ("linear", 128)):
+        out = figure(patch.replace("display", display), tmp_path / f"{display}.png", size=(160, 120), vectors=None)
+        pixels = centre_pixel(out)
+        # the patch lies a little off the lamp's axis below the middle (n·l ≈ 0.98): within 4 of the centre's value
+        assert np.all(np.abs(pixels.astype(int) - expected) <= 4), (display, pixels[:3].tolist(), expected)
