@@ -30,7 +30,7 @@ def wrong_banner() -> None:
 def mistaken_terms() -> None:
     """For each term the mistake changes: mistaken value, correct value, wrong and right code."""
     with html.Div(v_for="t in readout.terms.filter(x => x.correct)", key="t.name",
-                  classes="phonglab-term-wrong", data_term=("t.name",), __properties=[("data_term", "data-term")]):
+                  classes="phonglab-term-wrong", data_wrong=("t.name",), __properties=[("data_wrong", "data-wrong-term")]):
         with html.Div(classes="phonglab-term-pair"):
             html.Span("{{ t.name }}", classes="phonglab-term-name")
             html.Span("", classes="phonglab-swatch", style=("{background: t.hex}",))
