@@ -12,6 +12,7 @@ import pytest
 vtk = pytest.importorskip("vtk")
 
 import phonglab as pl  # noqa: E402
+from phonglab.core.display import display_bytes, display_values, srgb_decode  # noqa: E402
 from phonglab.render._vtk import set_camera  # noqa: E402
 from phonglab.render.gbuffer import GBufferRenderer  # noqa: E402
 from phonglab.render.mesh import build_mesh, face_centroids_normals  # noqa: E402
@@ -59,6 +60,11 @@ def analytic_peak(scene: Scene) -> float:
     return float(color.max())
 
 
+def encoded(linear: float) -> float:
+    """A linear value as the display value in [0, 1] the picture holds (sRGB, clipped)."""
+    return float(display_values(linear))
+
+
 def render(scene: Scene) -> np.ndarray:
     view = SceneView(scene, size=SIZE, vectors=None, labels=False, markers=False, background=(0, 0, 0))
     try:
@@ -77,24 +83,26 @@ def test_highlight_peak_found_by_pixel_mode_and_missed_by_gouraud(interpolation)
     scene = highlight_scene(interpolation)
     peak = analytic_peak(scene)
     image = render(scene)
+    # the picture is sRGB-encoded: compare in display values, and in linear light where the lobe's fraction counts
     brightest = image.max() / 255
+    linear = float(srgb_decode(brightest))
     mesh = build_mesh(scene.geometry)
     vertex_best = float(scene_shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"])).color.max())
-    report = (f"{interpolation}: brightest pixel {brightest:.3f}, analytic peak {peak:.3f}, "
+    report = (f"{interpolation}: brightest pixel {brightest:.3f} (linear {linear:.3f}), analytic peak {peak:.3f}, "
               f"best vertex {vertex_best:.3f} (sphere resolution {scene.geometry.resolution}, {SIZE})")
     if interpolation == "pixel":
         # found: within a few percent of the analytic peak (pixel sampling of a shininess-60 lobe)
-        assert brightest >= 0.93 * peak, report
-        assert brightest <= peak + 1 / 255, report
+        assert linear >= 0.93 * peak, report
+        assert brightest <= encoded(peak) + 1 / 255, report
     elif interpolation == "gouraud":
         # missed: colours interpolate between vertices, none of which sees the highlight
-        assert brightest <= 0.5 * peak, report
-        assert brightest <= vertex_best + 1 / 255, report
+        assert linear <= 0.5 * peak, report
+        assert brightest <= encoded(vertex_best) + 1 / 255, report
     else:
         # flat: the brightest face is the brightest centroid the core shaded, no more
         centroids, normals = face_centroids_normals(mesh)
         face_best = float(np.clip(scene_shade(scene, centroids, normals).color, 0, 1).max())
-        assert abs(brightest - face_best) <= 1 / 255, report + f", best face {face_best:.3f}"
+        assert abs(brightest - encoded(face_best)) <= 1 / 255, report + f", best face {face_best:.3f}"
 
 
 def face_id_image(scene: Scene) -> np.ndarray:
@@ -123,7 +131,7 @@ def test_flat_mode_paints_one_colour_per_face():
     face = face_id_image(scene)
     mesh = build_mesh(scene.geometry)
     centroids, normals = face_centroids_normals(mesh)
-    expected = np.rint(np.clip(scene_shade(scene, centroids, normals).color, 0, 1) * 255).astype(np.uint8)
+    expected = display_bytes(scene_shade(scene, centroids, normals).color)
     seen = np.unique(face[face >= 0])
     assert len(seen) > 20, f"only {len(seen)} faces visible"
     for f in seen:
@@ -139,7 +147,7 @@ def test_gouraud_vertex_colours_are_the_core_at_the_vertices():
         drawn = np.asarray(view.mesh.point_data["rgb"])
         mesh = view.mesh
         core = scene_shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"])).color
-        expected = np.rint(np.clip(core, 0, 1) * 255).astype(np.uint8)
+        expected = display_bytes(core)
     finally:
         view.close()
     assert (drawn == expected).all(), f"{np.sum(drawn != expected)} vertex channels differ from the core"
@@ -180,6 +188,6 @@ def test_pixel_image_is_the_core_on_the_gbuffer():
     finally:
         view.close()
     core = scene_shade(scene, g.positions[g.mask], g.normals[g.mask]).color
-    expected = np.rint(np.clip(core, 0, 1) * 255).astype(np.uint8)
+    expected = display_bytes(core)  # encoded for the display (sRGB by default)
     assert (image[g.mask] == expected).all(), "pixel colours differ from the core on the G-buffer"
     assert (image[~g.mask] == [51, 102, 153]).all(), "uncovered pixels are not the background"

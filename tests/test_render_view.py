@@ -152,7 +152,8 @@ def test_pixel_mode_draws_arrows_over_the_shaded_mesh():
 
 
 def test_terms_add_up_to_the_colour():
-    scene = red_sphere(interpolation="gouraud")
+    # the terms add up in linear light: shown raw (display = "linear") their bytes add up too
+    scene = red_sphere(interpolation="gouraud").replace("display", "linear")
     view = SceneView(scene, size=SIZE, vectors=None)
     try:
         parts = {}
@@ -376,8 +377,9 @@ def test_an_area_light_is_drawn_as_a_flat_panel_where_it_is():
         assert actor.GetVisibility() and not actor.GetProperty().GetLighting()
         points = np.asarray(data.GetPoints().GetData())
         colours = np.asarray(data.GetPointData().GetArray("rgb"))
-        # the emitting face is the light's rectangle, in its colour at full brightness; the rest lies behind it
-        lit = np.all(colours == (255, 204, 102), axis=1)
+        # the emitting face is the light's rectangle, in its colour at full brightness (linear (1, 0.8, 0.4)
+        # shown as sRGB); the rest lies behind it
+        lit = np.all(colours == (255, 231, 170), axis=1)
         corners = sorted(tuple(np.round(p, 9)) for p in points[lit])
         assert corners == sorted((x, y, 1.2) for x in (-0.4, 0.4) for y in (-0.3, 0.3)), points[lit]
         assert np.all(colours[~lit] == (72, 74, 82)), colours[~lit]
@@ -386,7 +388,7 @@ def test_an_area_light_is_drawn_as_a_flat_panel_where_it_is():
         # seen from below the panel's plane, its centre shows the flat light colour
         image = view.screenshot(annotate=False)
         x, y = view.to_image((0.0, 0.0, 1.2))
-        assert tuple(image[int(round(y)), int(round(x))]) == (255, 204, 102), (x, y, image[int(round(y)), int(round(x))])
+        assert tuple(image[int(round(y)), int(round(x))]) == (255, 231, 170), (x, y, image[int(round(y)), int(round(x))])
         # moving the light moves the panel, in place; the shading follows
         before_props, before_colours = len(props(view)), np.array(view.colour_array().values)
         view.update(scene.replace("area_light.position", [0.3, 0.0, 1.0]))

@@ -20,7 +20,10 @@ import re
 from dataclasses import dataclass
 from typing import Callable
 
+import numpy as np
+
 from phonglab.app.keys import state_key
+from phonglab.core.display import display_bytes, srgb_decode
 from phonglab.scene import SceneError
 
 #: a colour as the browser's colour picker sends it
@@ -184,13 +187,19 @@ def _scene_reason(exc: SceneError, path: str = "") -> str:
 
 
 def rgb_to_hex(rgb) -> str:
-    """``(r, g, b)`` in [0, 1] (clipped) as ``#rrggbb``."""
-    return "#" + "".join(f"{int(round(min(max(c, 0.0), 1.0) * 255)):02x}" for c in rgb)
+    """A linear colour ``(r, g, b)`` in [0, 1] (clipped) as the sRGB ``#rrggbb`` a colour picker shows.
+
+    Pickers show and return sRGB, as colour-managed tools do; the scene stores
+    linear values (:func:`hex_to_rgb` decodes). Linear 0.5 shows as ``#bcbcbc``.
+    """
+    encoded = display_bytes(np.asarray(rgb, dtype=np.float64), encoding="srgb")
+    return "#" + "".join(f"{int(c):02x}" for c in encoded)
 
 
 def hex_to_rgb(text: str) -> tuple[float, float, float]:
-    """``#rrggbb`` as three floats in [0, 1]."""
-    return tuple(int(text[i : i + 2], 16) / 255.0 for i in (1, 3, 5))
+    """An sRGB ``#rrggbb`` from a colour picker as the three linear values in [0, 1] the scene stores."""
+    encoded = np.array([int(text[i : i + 2], 16) / 255.0 for i in (1, 3, 5)])
+    return tuple(float(c) for c in srgb_decode(encoded))
 
 
 def split_level(rgb) -> tuple[float, tuple[float, float, float]]:

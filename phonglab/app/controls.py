@@ -45,6 +45,10 @@ TERMS = (("color", "All terms"), ("ambient", "Ambient"), ("diffuse", "Diffuse"),
 LIGHT_TYPES = (("point", "Point"), ("directional", "Directional"), ("spot", "Spot"))
 MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"))
 INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)"), ("pixel", "Per pixel"))
+#: how the picture is encoded for the screen (the scene's ``display``)
+DISPLAYS = (("srgb", "sRGB"), ("linear", "linear (as 1990s fixed-function hardware did)"))
+#: the exposure slider's range: radiance × exposure before clipping
+EXPOSURE_RANGE = (0.1, 4.0)
 #: the shininess slider spans α = 10**0 .. 10**3
 SHININESS_LOG_RANGE = (0.0, 3.0)
 
@@ -281,8 +285,20 @@ def scene_controls(scene, frame: Frame | None = None, *, read_field=field_value)
                            group="Shading"))
     controls.append(_field("two_sided", "two-sided lighting", "switch", read_field, group="Shading"))
     controls.append(_field("camera.infinite_viewer", "infinite viewer", "switch", read_field, group="Shading"))
+    controls += _display_controls(read_field)
     controls.append(_term())
     return controls
+
+
+def _display_controls(read_field) -> list[Control]:
+    """The display encoding (sRGB or linear) and the exposure, as the scene's ``display`` and ``exposure``."""
+    return [
+        _field("display", "display: sRGB or linear", "select", read_field, items=DISPLAYS, group="Display"),
+        Control(path="exposure", label="exposure (× radiance)", kind="slider",
+                read=lambda scene, options: float(scene.exposure),
+                write=lambda scene, value, options: (scene.replace("exposure", value), options),
+                low=EXPOSURE_RANGE[0], high=EXPOSURE_RANGE[1], step=0.05, group="Display"),
+    ]
 
 
 def widgets_for(path: str) -> tuple[str, ...]:
@@ -333,7 +349,7 @@ def field_mirrors(scene, *, read_field=field_value) -> list[Control]:
     widget's control is the one to use: see :func:`controls_by_key`.
     """
     paths = ["material.ka", "material.kd", "material.ks", "material.shininess", "material.emission",
-             "model", "interpolation", "two_sided", "camera.infinite_viewer", "probe"]
+             "model", "interpolation", "two_sided", "camera.infinite_viewer", "probe", "display", "exposure"]
     for index, light in enumerate(scene.lights):
         base = f"lights[{index}]"
         paths += [f"{base}.color", f"{base}.intensity"]

@@ -58,7 +58,7 @@ MAX_PIXEL_SIDE = 1600
 #: seconds between sending a view update and refreshing the panels (lets the update leave first)
 PANEL_DELAY = 0.004
 #: scene fields whose change only recolours the mesh (no geometry, arrow or marker moves)
-COLOUR_ONLY_FIELDS = {"material", "model"}
+COLOUR_ONLY_FIELDS = {"material", "model", "display", "exposure"}
 
 
 def _guarded(method):
@@ -343,7 +343,7 @@ class LessonApp(TrameApp):
         # probe readout and vector legend
         point, normal = self.view.probe
         s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
-                                  scene_plan=verdict)
+                                  scene_plan=verdict, mistake=self.view.mistake)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
         self.accuracy.follow(scene)
         # controls: drawn again only when their set changes; their values follow every scene
@@ -486,7 +486,8 @@ class LessonApp(TrameApp):
             self.export_dir.mkdir(parents=True, exist_ok=True)
             stem = f"lesson-{self.entry.number:02d}" if self.entry.number is not None else self.entry.path.stem
             name = f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}.png"
-            path = figure(self.scene, self.export_dir / name, vectors="NLRVH")
+            # the mistake the view shows, if any: the export is shaded with it and carries the red band
+            path = figure(self.scene, self.export_dir / name, vectors="NLRVH", mistake=self.view.mistake)
             self.notify("success", f"Saved {path}")
         except Exception as exc:
             log.exception("export")
@@ -519,5 +520,5 @@ class LessonApp(TrameApp):
 
 def _changed(old, new) -> set:
     """The scene's top-level fields that differ."""
-    names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light")
+    names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light", "display", "exposure")
     return {name for name in names if getattr(old, name) != getattr(new, name)}

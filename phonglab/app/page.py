@@ -34,6 +34,7 @@ from phonglab.app import check_question, student_code
 from phonglab.app.client import ColorPush
 from phonglab.app.control import Control
 from phonglab.app.controls import TERMS
+from phonglab.app import truth_ui
 
 
 def initial_state() -> dict:
@@ -218,6 +219,7 @@ class _Page:
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     html.Img(src=("pixel_src",), alt="per-pixel shading by the core")
+                truth_ui.wrong_banner()
                 with html.Div(classes="phonglab-legend", v_if="legend.length"):
                     with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
                                    title=("v.meaning",)):
@@ -312,8 +314,10 @@ class _Page:
                     html.Span("{{ t.name }}", classes="phonglab-term-name")
                     html.Span("{{ t.value }}", classes="phonglab-mono",
                               data_term=("t.name",), __properties=[("data_term", "data-term")])
+            truth_ui.mistaken_terms()
             html.Div(v_html=("readout.equation",), classes="phonglab-equation")
             html.Div("{{ n }}", v_for="(n, i) in readout.notes", key="i", classes="phonglab-note")
+            truth_ui.display_note()
 
     def _control_column(self):
         with html.Div(classes="phonglab-side"):

@@ -4,6 +4,15 @@ Everything here comes from the core: the vectors and cosines from
 :func:`phonglab.core.vectors`, the terms from :func:`phonglab.scene.shade`
 at the single probe point. This module only formats them (as MathML through
 :func:`phonglab.app.text.mathml`).
+
+With a common mistake shown in the picture, the numbers are the ones the
+mistaken code computes (:func:`phonglab.scene.shade` with ``mistake=``, the
+same call that coloured the mesh), and each term that differs carries the
+correct value and the wrong line of code beside the right one.
+
+The numbers are linear light, as the model computes them; the colour
+swatches are encoded for the display as the picture is (the scene's
+``display`` and ``exposure``, :func:`phonglab.core.display.display_bytes`).
 """
 
 from __future__ import annotations
@@ -14,6 +23,7 @@ import numpy as np
 
 from phonglab import core
 from phonglab.app.text import mathml
+from phonglab.core.display import display_bytes
 from phonglab.scene import shade
 
 
@@ -39,7 +49,28 @@ def _vec_text(v, digits: int = 3) -> str:
     return "(" + ", ".join(f"{float(c):+.{digits}f}" for c in v) + ")"
 
 
-def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None) -> dict:
+#: said once beside the numbers: they are the model's, the picture is encoded for the screen
+DISPLAY_NOTES = {
+    "srgb": "Numbers are linear light; the picture and the swatches are sRGB-encoded.",
+    "linear": "Numbers are linear light; the picture and the swatches show them raw (display = linear, no sRGB curve).",
+}
+
+
+def _rgb_text(rgb) -> str:
+    return "(" + ", ".join(f"{float(c):.3f}" for c in rgb) + ")"
+
+
+def swatch_hex(scene, rgb) -> str:
+    """A linear colour as the ``#rrggbb`` the display shows (the scene's display encoding and exposure)."""
+    values = display_bytes(np.asarray(rgb, dtype=np.float64), encoding=scene.display, exposure=scene.exposure)
+    return "#" + "".join(f"{int(c):02x}" for c in values)
+
+
+def _differs(a, b) -> bool:
+    return bool(np.any(np.abs(np.asarray(a, dtype=np.float64) - np.asarray(b, dtype=np.float64)) > 5e-4))
+
+
+def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None, mistake=None) -> dict:
     """The readout beside the view, as plain data.
 
     Parameters
@@ -53,17 +84,25 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         The light the vectors refer to.
     scene_plan : phonglab.scene.ScenePlan, optional
         The scene's plan when it is already made (:func:`phonglab.scene.plan`).
+    mistake : str, optional
+        The common mistake the picture shows (a name from
+        :data:`phonglab.teaching.MISTAKES`): the terms and the equation's
+        results are then the mistaken code's.
 
     Returns
     -------
     dict
         ``point``, ``dots`` (list of {name, html, value}), ``terms`` (list of
-        {name, value, hex}), ``equation`` (MathML), ``notes`` (list of str),
-        ``vectors`` (letter -> "(x, y, z)").
+        {name, value, hex}, with ``correct`` and ``correct_hex`` where a
+        mistake changes the term), ``equation`` (MathML), ``notes`` (list of
+        str), ``vectors`` (letter -> "(x, y, z)"), ``display_note``, and
+        ``mistake`` (None or {name, title, wrong, right}).
     """
     p = np.asarray(point, dtype=np.float64).reshape(1, 3)
     n = np.asarray(normal, dtype=np.float64).reshape(1, 3)
-    total = shade(scene, p, n, scene_plan=scene_plan)
+    correct = shade(scene, p, n, scene_plan=scene_plan)
+    # with a mistake on, the numbers that made the picture: the same call as the mesh's colours
+    total = correct if mistake is None else shade(scene, p, n, mistake=mistake)
     material = scene.material
     ambients = [light for light in scene.lights if isinstance(light, core.AmbientLight)]
     out = {
@@ -74,14 +113,25 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         "notes": [],
         "vectors": {},
         "light": light_index,
+        "display_note": DISPLAY_NOTES[scene.display],
+        "mistake": None,
     }
-    for name, values in (("ambient", total.ambient), ("diffuse", total.diffuse), ("specular", total.specular),
-                         ("emission", total.emission), ("total", total.color)):
-        rgb = [float(c) for c in values[0]]
+    if mistake is not None:
+        from phonglab.teaching import get_mistake
+
+        m = get_mistake(mistake)
+        out["mistake"] = {"name": m.name, "title": m.title, "wrong": m.wrong, "right": m.right}
+    for name in ("ambient", "diffuse", "specular", "emission", "color"):
+        rgb = getattr(total, name)[0]
         if name == "emission" and not any(rgb):
             continue
-        out["terms"].append({"name": name, "value": "(" + ", ".join(f"{c:.3f}" for c in rgb) + ")",
-                             "hex": "#" + "".join(f"{int(round(min(max(c, 0), 1) * 255)):02x}" for c in rgb)})
+        term = {"name": "total" if name == "color" else name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)}
+        right = getattr(correct, name)[0]
+        if mistake is not None and _differs(rgb, right):
+            # the correct value next to the mistaken one, with the line of code that differs
+            term.update(correct=_rgb_text(right), correct_hex=swatch_hex(scene, right),
+                        wrong=out["mistake"]["wrong"], right=out["mistake"]["right"])
+        out["terms"].append(term)
     if vectors is None:
         out["notes"].append("No point, directional or spot light: only the ambient term is lit.")
         ia = [sum(light.ambient_rgb[i] for light in ambients) for i in range(3)]
@@ -98,15 +148,20 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         {"name": "n·h", "tex": mathml(r"n\cdot h"), "value": f"{vectors.nh:+.3f}"},
     ]
     light = scene.lights[light_index]
-    # the shown light's own terms, from the core, with the ambient lights
+    # the shown light's own terms, from the core (the mistaken code with a mistake on), with the ambient lights
     one = dataclasses.replace(scene, lights=tuple(ambients) + (light,))
-    part = shade(one, p, n)
+    part = shade(one, p, n, mistake=mistake)
     f = vectors.attenuation * vectors.spot
     ia = [sum(a.ambient_rgb[i] for a in ambients) for i in range(3)]
     cosine, cos_tex = (vectors.nh, r"n\cdot h") if blinn else (vectors.rv, r"r\cdot v")
     alpha = material.shininess
     ka, kd, ks = (_rgb_tex(c) for c in (material.ka, material.kd, material.ks))
     f_tex, nl_tex = _num(f, 3), _num(max(0.0, vectors.nl), 3)
+    # the substituted numbers the mistaken code uses where its line differs
+    if mistake == "no-clamp-diffuse":
+        nl_tex = _num(vectors.nl, 3)
+    elif mistake == "zero-shininess":
+        alpha = 0.0
     # one row per term: the symbols, the numbers, the core's value
     rows = [
         ("model", rf"I = k_a I_a + f\left[k_d I_d \max(0, n\cdot l) + k_s I_s \max(0, {cos_tex})^{{\alpha}}\right]"),
@@ -123,8 +178,18 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
     out["equation"] = "".join(
         f'<div class="eq-row"><span class="eq-label">{label}</span>{mathml(tex)}</div>' for label, tex in rows
     )
-    if vectors.nl <= 0:
+    if vectors.nl <= 0 and mistake is None:
         out["notes"].append("n·l ≤ 0: the light is behind the surface here, so diffuse and specular are 0.")
+    elif vectors.nl <= 0:
+        out["notes"].append("n·l ≤ 0: the light is behind the surface here, so correct code gives diffuse and "
+                            f"specular 0; the mistaken code gives diffuse {_rgb_text(part.diffuse[0])} and "
+                            f"specular {_rgb_text(part.specular[0])}.")
+    if mistake is not None:
+        changed = [t["name"] for t in out["terms"] if "correct" in t]
+        out["notes"].insert(0, f"Deliberately wrong ({out['mistake']['title']}): these are the mistaken code's "
+                               "numbers, the ones that made the picture"
+                            + (f"; {', '.join(changed)} differ from the correct values." if changed
+                               else "; here they equal the correct ones."))
     if f != 1.0:
         parts = []
         if vectors.distance is not None:
@@ -139,7 +204,6 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         rest = total.color[0] - part.color[0]
         out["notes"].append(
             (f"{others} other lights add " if others > 1 else "1 other light adds ")
-            + "(" + ", ".join(f"{c:.3f}" for c in rest) + f"), for a total of "
-            + "(" + ", ".join(f"{c:.3f}" for c in total.color[0]) + ")."
+            + _rgb_text(rest) + ", for a total of " + _rgb_text(total.color[0]) + "."
         )
     return out

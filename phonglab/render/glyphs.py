@@ -17,6 +17,7 @@ import numpy as np
 import pyvista as pv
 
 from phonglab import core
+from phonglab.core.display import display_bytes, srgb_decode
 
 #: name of the uint8 RGB point array every glyph carries
 COLOR_ARRAY = "rgb"
@@ -85,9 +86,11 @@ def relief(mesh: pv.PolyData, base_rgb, view_direction) -> np.ndarray:
 
     A matte material (``ka = kd = base``, a touch of specular) under an ambient
     light and a directional light from over the viewer's shoulder; gives glyphs
-    a 3D look without VTK lighting.
+    a 3D look without VTK lighting. ``base_rgb`` is a colour as shown
+    (sRGB): it is decoded to linear light, shaded, and encoded again, so a
+    glyph facing the light shows about its chip colour.
     """
-    base = tuple(float(c) / 255.0 for c in base_rgb)
+    base = tuple(float(c) for c in srgb_decode(np.asarray(base_rgb, dtype=np.float64) / 255.0))
     material = core.Material(ka=base, kd=base, ks=0.2, shininess=24.0)
     v = _unit(view_direction)
     # light from over the viewer's shoulder: the view direction tilted up
@@ -101,7 +104,7 @@ def relief(mesh: pv.PolyData, base_rgb, view_direction) -> np.ndarray:
         material=material,
         lights=lights,
     )
-    return np.rint(np.clip(shading.color, 0.0, 1.0) * 255.0).astype(np.uint8)
+    return display_bytes(shading.color, encoding="srgb")
 
 
 def _with_normals(mesh: pv.PolyData) -> pv.PolyData:
@@ -160,11 +163,11 @@ def arrow(start, direction, color, view_direction, length: float = ARROW_FRACTIO
 
 
 def light_color_255(light) -> tuple[int, int, int]:
-    """A marker colour for a light: its colour, brightened so the largest channel is 255."""
+    """A marker colour for a light: its (linear) colour, brightened so the largest channel is 1, sRGB-encoded."""
     c = np.asarray(getattr(light, "color", (1.0, 1.0, 1.0)), dtype=float)
     top = c.max()
     c = c / top if top > 0 else np.ones(3)
-    return tuple(int(round(x)) for x in np.clip(c, 0, 1) * 255)
+    return tuple(int(x) for x in display_bytes(c, encoding="srgb"))
 
 
 def light_marker(light, view_direction, centre=(0.0, 0.0, 0.0)) -> pv.PolyData | None:

@@ -7,8 +7,11 @@
 * **pixel** — VTK interpolates *positions and normals* per pixel (the
   G-buffer of :mod:`phonglab.render.gbuffer`); the core shades every pixel.
 
-Colours leave the core unclamped; they are clipped to [0, 1] and scaled to
-8-bit RGB only here, at the last step before VTK.
+Colours leave the core unclamped, as linear light; they are encoded for the
+display only here, at the last step before VTK, with the scene's display
+options (:func:`display_rgb8`): linear radiance → ``scene.exposure`` → clip
+to [0, 1] → ``scene.display`` transfer curve (sRGB by default, or
+``"linear"``) → 8 bits. So a 50 % grey is 188/255 by default, 128 raw.
 
 Every function takes ``mistake=``: None (the default) shades correctly with
 :func:`phonglab.scene.shade`; a name from :data:`phonglab.teaching.MISTAKES`
@@ -23,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from phonglab.core.display import display_bytes
 from phonglab.render.gbuffer import GBuffer
 from phonglab.render.mesh import face_centroids_normals
 
@@ -97,8 +101,23 @@ def term_of(shading, term: str) -> np.ndarray:
     return getattr(shading, term)
 
 
+def display_rgb8(scene, values) -> np.ndarray:
+    """Linear light computed for ``scene`` as the uint8 RGB the display shows.
+
+    The scene's ``exposure`` scales the radiance, which is clipped to [0, 1]
+    and encoded with the scene's ``display`` curve
+    (:func:`phonglab.core.display.display_bytes`): 0.5 is 188 with ``"srgb"``
+    (the default), 128 with ``"linear"``. NaN shows as black.
+    """
+    return display_bytes(values, encoding=getattr(scene, "display", "srgb"),
+                         exposure=getattr(scene, "exposure", 1.0))
+
+
 def to_rgb8(values) -> np.ndarray:
-    """Clip colours to [0, 1] and scale them to uint8 RGB (rounded)."""
+    """Clip values already meant for the display (a background colour) to [0, 1] and scale them to uint8 RGB.
+
+    Shaded colours are linear light: use :func:`display_rgb8`, which encodes them.
+    """
     values = np.asarray(values)
     if values.dtype not in (np.float32, np.float64):
         values = values.astype(np.float64)
@@ -111,14 +130,14 @@ def to_rgb8(values) -> np.ndarray:
 def vertex_colors(scene, mesh, terms=("color",), mistake: str | None = None) -> dict[str, np.ndarray]:
     """Gouraud: uint8 RGB per mesh point, for each requested term (with ``mistake``, if given)."""
     shading = shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"]), mistake)
-    return {t: to_rgb8(term_of(shading, t)) for t in terms}
+    return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
 
 
 def face_colors(scene, mesh, terms=("color",), mistake: str | None = None) -> dict[str, np.ndarray]:
     """Flat: uint8 RGB per triangle, shaded at its centroid with its face normal (with ``mistake``, if given)."""
     centroids, normals = face_centroids_normals(mesh)
     shading = shade(scene, centroids, normals, mistake)
-    return {t: to_rgb8(term_of(shading, t)) for t in terms}
+    return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
 
 
 def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
@@ -130,7 +149,8 @@ def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
     scene : phonglab.scene.Scene
     gbuffer : GBuffer
     background : sequence of 3 floats in [0, 1]
-        Colour of the pixels the mesh does not cover.
+        Colour of the pixels the mesh does not cover, as the display shows
+        it (not encoded again, so it matches VTK's background).
     terms : sequence of str
     mistake : str or None
         A deliberately wrong shading to use (see :func:`shade`). A mistake
@@ -151,6 +171,6 @@ def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
     for t in terms:
         image = np.empty(mask.shape + (3,), dtype=np.uint8)
         image[...] = back
-        image[mask] = to_rgb8(term_of(shading, t))
+        image[mask] = display_rgb8(scene, term_of(shading, t))
         out[t] = image
     return out

@@ -219,7 +219,7 @@ class SceneView:
         changed = {
             name
             for name in ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe",
-                         "area_light")
+                         "area_light", "display", "exposure")
             if getattr(old, name) != getattr(scene, name)
         }
         if not changed:
@@ -229,7 +229,8 @@ class SceneView:
         if "camera" in changed:
             set_camera(self.renderer.GetActiveCamera(), scene.camera)
             self._gbuffers.clear()
-        if changed & {"geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "area_light"}:
+        if changed & {"geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "area_light",
+                      "display", "exposure"}:
             self._recolor()
         if changed & {"geometry", "probe"} or ("camera" in changed and scene.probe is None):
             self._arrows.locate(self.mesh, scene)

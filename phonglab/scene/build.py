@@ -23,7 +23,7 @@ from __future__ import annotations
 import dataclasses
 
 from phonglab import core
-from phonglab.scene.checks import check_bool, check_choice, check_shape, check_text, check_vector
+from phonglab.scene.checks import check_bool, check_choice, check_number, check_shape, check_text, check_vector
 from phonglab.scene.errors import SceneError, SceneErrors, did_you_mean, join_path
 from phonglab.scene.parts import AreaLightSetup, Camera, Geometry
 from phonglab.scene.paths import find_mesh_file
@@ -31,6 +31,7 @@ from phonglab.scene.schema import (
     AREA_LIGHT_KEYS,
     CAMERA_KEYS,
     CORE_FIELDS,
+    DISPLAYS,
     GEOMETRY_KEYS,
     HOMOGENEOUS_KEYS,
     INTERPOLATIONS,
@@ -306,6 +307,8 @@ _OPTION_CHECKS = {
     "two_sided": check_bool,
     "probe": check_vector,
     "title": check_text,
+    "display": lambda p, v: check_choice(p, v, DISPLAYS),
+    "exposure": lambda p, v: check_number(p, v, low=0, low_open=True),
 }
 
 

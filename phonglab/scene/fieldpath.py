@@ -129,6 +129,8 @@ def scene_to_dict(scene) -> dict:
         "model": scene.model,
         "interpolation": scene.interpolation,
         "two_sided": scene.two_sided,
+        "display": scene.display,
+        "exposure": scene.exposure,
         "geometry": geometry,
         "material": {k: plain(getattr(m, k)) for k in MATERIAL_KEYS},
         "lights": [light_to_dict(light) for light in scene.lights],

@@ -61,6 +61,14 @@ class Scene:
     area_light : AreaLightSetup or None
         An optional rectangular area light (diffuse only), with how its
         integral over the light is evaluated.
+    display : str
+        How the computed linear light is encoded for the screen and in
+        exports: ``"srgb"`` (the IEC 61966-2-1 curve, the default) or
+        ``"linear"`` (the raw values ×255, as 1990s fixed-function hardware
+        did). See :mod:`phonglab.core.display`.
+    exposure : float
+        Radiance is multiplied by this (> 0) before it is clipped to [0, 1]
+        and encoded; below 1 brings an over-exposed highlight back.
     """
 
     geometry: Geometry
@@ -74,6 +82,8 @@ class Scene:
     title: str = SCENE_DEFAULTS["title"]
     source: str | None = None
     area_light: "AreaLightSetup | None" = None
+    display: str = SCENE_DEFAULTS["display"]
+    exposure: float = SCENE_DEFAULTS["exposure"]
 
     def __post_init__(self):
         object.__setattr__(self, "lights", tuple(self.lights))  # a list given in code is stored as a tuple

@@ -14,6 +14,7 @@ how the rule is phrased for a scene file.
 from __future__ import annotations
 
 from phonglab import core
+from phonglab.core.display import DISPLAY_ENCODINGS
 
 # ---------------------------------------------------------------------------
 # kinds, ranges and defaults
@@ -33,14 +34,17 @@ AREA_METHODS = core.AREA_METHODS
 #: Monte Carlo samples per point of an area light
 AREA_SAMPLES_RANGE = (1, 4096)
 #: a scene's options when its file leaves them out
-SCENE_DEFAULTS = {"title": "", "model": "phong", "interpolation": "gouraud", "two_sided": False, "probe": None}
+SCENE_DEFAULTS = {"title": "", "model": "phong", "interpolation": "gouraud", "two_sided": False, "probe": None,
+                  "display": "srgb", "exposure": 1.0}
+#: how linear light is encoded for the screen (see phonglab.core.display)
+DISPLAYS = DISPLAY_ENCODINGS
 
 # ---------------------------------------------------------------------------
 # which keys each table allows
 
 #: keys of a scene file's top level
-SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "geometry", "material", "lights", "camera",
-              "area_light")
+SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "display", "exposure", "geometry", "material",
+              "lights", "camera", "area_light")
 #: further top-level keys of a lesson's front matter
 LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake", "claims", "check")
 GEOMETRY_KEYS = ("kind", "resolution", "name", "path")
