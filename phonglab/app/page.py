@@ -83,6 +83,7 @@ class Handlers:
     apply_experiment: Callable  #: ``(index)``: an experiment's Apply button
     pick: Callable  #: ``(event)``: a click on the view (``event["ray"]``)
     camera: Callable  #: ``(camera)``: the browser's camera after a turn or zoom
+    camera_move: Callable | None = None  #: ``(camera)``: the browser's camera during a turn or zoom
 
 
 def build_page(server, render_window, handlers: Handlers):
@@ -203,8 +204,10 @@ class _Page:
                     picking_modes=("['click']",),
                     click=(self.handlers.pick, "[$event]"),
                     interactor_settings=("view_interaction", _INTERACTION),
-                    interactor_events=("['EndAnimation']",),
+                    interactor_events=("['EndAnimation', 'Animation']",),
                     EndAnimation=(self.handlers.camera, "[trame.refs.phonglab_view.getCamera()]"),
+                    Animation=(self.handlers.camera_move or self.handlers.camera,
+                               "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.view:
                     ColorPush(push=("view_colors",))
                 client.SizeObserver("view_size")

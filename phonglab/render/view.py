@@ -153,6 +153,7 @@ class SceneView:
         self._arrows = ProbeArrows(glyphs.parse_vectors(vectors))
         self._light_index_choice = light_index
         self._gbuffers = pixels.GBufferCache()
+        self._keep_view_angle = False  # the camera came from a browser: its view angle is not refitted
 
         # window, renderer, camera
         self.render_window = make_render_window(size, offscreen=offscreen)
@@ -209,13 +210,24 @@ class SceneView:
     # ------------------------------------------------------------------
     # updates
 
-    def update(self, scene) -> None:
+    def update(self, scene, *, keep_view_angle: bool = False) -> None:
         """Show ``scene``, recomputing only what differs from the current one.
 
         The mesh's colour array is overwritten in place; actors are never
         added on a change of material, lights, model or probe.
+
+        Parameters
+        ----------
+        scene : Scene
+        keep_view_angle : bool
+            The scene's camera is a browser's (the student turned the view):
+            show its view angle as it is, not widened to hold the arrows, until
+            a camera comes without this flag (:meth:`reset_camera`, a new scene).
+            The core shades for this camera's eye either way.
         """
         old, self.scene = self.scene, scene
+        if old.camera != scene.camera:
+            self._keep_view_angle = bool(keep_view_angle)
         changed = {
             name
             for name in ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe",
@@ -363,6 +375,7 @@ class SceneView:
 
     def reset_camera(self) -> None:
         """Look through the scene's camera again (after :meth:`set_camera`), the view angle refitted."""
+        self._keep_view_angle = False
         set_camera(self.renderer.GetActiveCamera(), self.scene.camera)
         self._fit_view_angle()
         self._sync_eye_visibility()
@@ -427,6 +440,8 @@ class SceneView:
         camera = self.renderer.GetActiveCamera()
         width, height = self.render_window.GetSize()
         camera.SetUseHorizontalViewAngle(bool(width < height))
+        if self._keep_view_angle:  # a browser's camera, shown as the browser shows it
+            return
         letters = self._arrows.shown()
         angle = framing.fitted_view_angle(
             self.scene.camera, camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),
