@@ -460,16 +460,20 @@ class LessonApp(TrameApp):
         start = time.perf_counter()
         try:
             scene = eye.scene_camera(self.scene, camera)
+            if scene is not self.scene and scene.probe is None:
+                # the default probe stays on the surface point it marks: turning the view moves the eye only
+                scene = scene.replace("probe", [round(float(c), 6) for c in self.view.probe[0]])
         except (ValueError, TypeError, SceneError):
             return  # a malformed camera from the browser is ignored
         try:
             if scene is not self.scene:
                 self.scene = scene
-                self.view.update(scene, keep_view_angle=True)
+                self.view.update(scene, keep_view_angle=True, defer_glyphs=not final)
                 self._camera_moved = True
                 if scene.interpolation != "pixel":
                     self._push_colours()
             if final:
+                self.view.refresh_glyphs()
                 self.html_view.update()
                 self._refresh_pixels()
             self._refresh_panels()
