@@ -54,6 +54,8 @@ window.phonglab = {
           // draw now rather than on the view's next debounced render
           if (this.view.renderer) this.view.renderer.resetCameraClippingRange();
           this.view.renderWindow.render();
+          // the re-shaded colours are on screen (phonglab bench ui times a turn to this moment)
+          window.dispatchEvent(new CustomEvent("phonglab-colors-applied"));
         },
       },
       template: "<div style='display:none'></div>",
