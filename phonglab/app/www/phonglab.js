@@ -13,6 +13,10 @@ window.phonglab = {
       data() {
         return { pending: null, tries: 0 };
       },
+      mounted() {
+        // the local view this component sits in (tests and benchmarks read its camera and pixels)
+        window.phonglabView = this.view;
+      },
       watch: {
         push(value) {
           this.pending = value;
