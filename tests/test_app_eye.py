@@ -122,3 +122,18 @@ def test_moving_the_eye_slider_moves_the_camera_and_a_new_lesson_restores_it(app
     assert app.view.renderer.GetActiveCamera().GetPosition() == pytest.approx(expected, abs=1e-6)
     app.reset_lesson()
     assert app.scene.camera == app.entry.scene.camera
+
+
+def test_the_page_gets_every_arrows_tip_for_its_letters_and_they_follow_the_eye(app):
+    def tips():
+        return {t["letter"]: (np.array(t["base"]), np.array(t["tip"]), t["color"]) for t in app.state.arrow_tips}
+
+    assert set(tips()) == set("NLRVH"), app.state.arrow_tips
+    colours = {entry["letter"]: entry["color"] for entry in app.state.legend}
+    app.on_camera(_turned(app.scene, 35))
+    shown = tips()
+    point, _ = app.view.probe
+    for letter, direction in (("V", app.view.probe_vectors.v), ("N", app.view.probe_vectors.n)):
+        base, tip, colour = shown[letter]
+        assert np.allclose(base, point, atol=1e-6) and colour == colours[letter], (letter, shown[letter])
+        assert np.allclose(tip, point + direction * app.view.arrow_length, atol=1e-5), (letter, tip, direction)

@@ -40,6 +40,7 @@ from phonglab.app import controls as ctl
 from phonglab.app.control import ControlError, finite3, format_value
 from phonglab.app import eye, page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
+from phonglab.app import client
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
@@ -340,6 +341,7 @@ class LessonApp(TrameApp):
         s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
                                   scene_plan=verdict)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
+        s.arrow_tips = client.arrow_tips(self.view.arrow_tips(), s.legend)
         self.accuracy.follow(scene)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)

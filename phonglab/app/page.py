@@ -30,7 +30,7 @@ from trame.widgets import vuetify3 as v3
 
 from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
 from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
-from phonglab.app.client import ColorPush
+from phonglab.app.client import ArrowLetters, ColorPush
 from phonglab.app.control import Control
 from phonglab.app.controls import TERMS
 
@@ -53,6 +53,7 @@ def initial_state() -> dict:
         "plan_computed": [],
         "plan_skipped": [],
         "legend": [],
+        "arrow_tips": [],
         "notice": None,
         "view_colors": None,
         "pixel_src": "",
@@ -210,6 +211,7 @@ class _Page:
                                "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.view:
                     ColorPush(push=("view_colors",))
+                    ArrowLetters(tips=("arrow_tips", []), hidden=("pixel_mode",))
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     html.Img(src=("pixel_src",), alt="per-pixel shading by the core")

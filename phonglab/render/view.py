@@ -623,6 +623,14 @@ class SceneView:
             save_png(image, path)
         return image
 
+    def arrow_tips(self) -> list[tuple[str, tuple[float, float, float], tuple[float, float, float]]]:
+        """Every arrow shown as ``(letter, base, tip)`` in world coordinates, for letters a front end draws.
+
+        The base is the probe point; the tip is ``base + direction * arrow_length``.
+        """
+        base = tuple(float(c) for c in self._arrows.point)
+        return [(letter, base, tuple(float(c) for c in self._arrows.tip(letter))) for letter in self._arrows.shown()]
+
     def legend(self) -> list[tuple[str, str, str]]:
         """The vectors shown, for a legend drawn elsewhere (HTML): (letter, meaning, "#rrggbb")."""
         return self._arrows.legend()
