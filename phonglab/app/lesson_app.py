@@ -474,13 +474,34 @@ class LessonApp(TrameApp):
                 self._camera_moved = True
                 if scene.interpolation != "pixel":
                     self._push_colours()
+            record("turn", (time.perf_counter() - start) * 1000.0)
+        except Exception as exc:
+            log.exception("camera")
+            self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
+            return
+        # the readout (and at the drag's end the arrows), once the colours have left for the browser
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:  # no server loop (scripts, tests): at once
+            loop = None
+        if loop is None:
+            self._finish_turn(final)
+        elif final:
+            loop.call_later(PANEL_DELAY, self._finish_turn, True)
+        elif self._panels_handle is None:
+            self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
+
+    def _finish_turn(self, final: bool) -> None:
+        """After a re-shade for the browser's camera: the readout; at the drag's end, arrows, markers, pixels."""
+        try:
+            if self.scene is None or self.view is None:
+                return
             if final:
                 self.view.refresh_glyphs()
                 self.html_view.update()
                 self._refresh_pixels()
             self._refresh_panels()
             self.state.flush()
-            record("turn", (time.perf_counter() - start) * 1000.0)
         except Exception as exc:
             log.exception("camera")
             self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")

@@ -519,7 +519,8 @@ def _report_turn(turn: dict, baseline_ms: float) -> None:
     latency, server = turn["latency_ms"], turn["server_ms"]
     median = statistics.median(latency)
     server_median = statistics.median(server) if server else float("inf")
-    print(f"turn to re-shaded pixels ({len(latency)} drags of {turn['step_px']} px): median {median:.1f} ms, "
+    print(f"turn to re-shaded pixels ({len(latency)} drags of {turn['step_px']} px, {turn['missed']} without a "
+          f"re-shade): median {median:.1f} ms, "
           f"p95 {percentile(latency, 95):.1f} ms; server per re-shade median {server_median:.1f} ms, "
           f"p95 {percentile(server, 95) if server else float('nan'):.1f} ms")
     ratio = median / baseline_ms

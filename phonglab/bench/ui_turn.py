@@ -18,6 +18,8 @@ import time
 
 #: pixels per drag step (vtk.js turns the camera by a few degrees for this)
 STEP_PX = 24
+#: how long a drag may wait for its re-shaded colours before it counts as missed (ms)
+STEP_TIMEOUT_MS = 20_000
 
 # Injected before the page's scripts: the clock for one turn
 TURN_JS = r"""
@@ -72,10 +74,15 @@ def measure_turn(browser, url, *, canvas, steps, warmup, timing_path, label="tur
         page.add_init_script(TURN_JS)
         page.goto(url)
         page.wait_for_selector(canvas, timeout=90_000)
+        if init_script:  # the pixel hash of phonglab.bench.ui: wait for the first settled picture
+            page.evaluate("(selector) => { window.__phonglabBench.selector = selector; }", canvas)
+            page.wait_for_function(
+                "() => { const b = window.__phonglabBench; return b.last !== 0 && b.stable > 20; }", timeout=120_000
+            )
+        page.wait_for_function("() => !!window.phonglabView", timeout=60_000)
         box = page.locator(canvas).first.bounding_box()
         x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-        # the page is ready when the first re-shade comes back
-        latencies, before = [], None
+        latencies, before, missed = [], None, 0
         for i in range(warmup + steps):
             records = len([r for r in timing.read(timing_path) if r[0] == label])
             if i == warmup:
@@ -86,7 +93,11 @@ def measure_turn(browser, url, *, canvas, steps, warmup, timing_path, label="tur
             page.mouse.down()
             page.mouse.move(x + direction * STEP_PX, y, steps=1)
             page.mouse.up()
-            page.wait_for_function("() => window.__phonglabTurn.latency !== null", timeout=60_000)
+            try:
+                page.wait_for_function("() => window.__phonglabTurn.latency !== null", timeout=STEP_TIMEOUT_MS)
+            except Exception:  # a drag that brought no re-shade (the camera did not change): counted, not timed
+                missed += 1
+                continue
             latency = page.evaluate("() => window.__phonglabTurn.latency")
             # the drag's end is re-shaded too: let it land before the next step
             deadline = time.monotonic() + 10
@@ -98,6 +109,8 @@ def measure_turn(browser, url, *, canvas, steps, warmup, timing_path, label="tur
             if i >= warmup:
                 latencies.append(latency)
         server = [ms for lab, ms in timing.read(timing_path) if lab == label][before:]
-        return {"latency_ms": latencies, "server_ms": server, "step_px": STEP_PX}
+        if not latencies:
+            raise RuntimeError(f"no drag of the view brought re-shaded colours back ({missed} drags)")
+        return {"latency_ms": latencies, "server_ms": server, "step_px": STEP_PX, "missed": missed}
     finally:
         page.close()
