@@ -474,7 +474,7 @@ class LessonApp(TrameApp):
                 self._camera_moved = True
                 if scene.interpolation != "pixel":
                     self._push_colours()
-            record("turn", (time.perf_counter() - start) * 1000.0)
+                record("turn", (time.perf_counter() - start) * 1000.0)  # a re-shade (not a camera already shown)
         except Exception as exc:
             log.exception("camera")
             self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")

@@ -19,7 +19,7 @@ import time
 #: pixels per drag step (vtk.js turns the camera by a few degrees for this)
 STEP_PX = 24
 #: how long a drag may wait for its re-shaded colours before it counts as missed (ms)
-STEP_TIMEOUT_MS = 20_000
+STEP_TIMEOUT_MS = 45_000
 
 # Injected before the page's scripts: the clock for one turn
 TURN_JS = r"""
