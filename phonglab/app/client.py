@@ -81,3 +81,41 @@ def color_payload(mapper, colors: np.ndarray, *, name: str, location: str) -> di
         "location": location,
         "data": np.ascontiguousarray(colors).tobytes(),
     }
+
+
+class ArrowLetters(AbstractElement):
+    """``<phonglab-letters>``: the letters N, L, R, V, H at the arrow tips of the enclosing local view.
+
+    The browser projects each tip with its own camera on every frame the
+    camera changes (so the letters follow a drag at once), places each
+    letter just past its tip along the arrow, and moves a letter that would
+    cover another one aside. vtk.js cannot draw VTK's text actors, hence HTML.
+
+    Parameters
+    ----------
+    tips : tuple
+        The state binding, e.g. ``("arrow_tips", [])``: see :func:`arrow_tips`.
+    hidden : tuple
+        A binding that hides the letters (pixel mode's image carries its own).
+    """
+
+    def __init__(self, **kwargs):
+        super().__init__("phonglab-letters", **kwargs)
+        if self.server:
+            self.server.enable_module(MODULE)
+        self._attr_names += ["tips", "hidden"]
+
+
+def arrow_tips(tips, legend) -> list[dict]:
+    """The state value for :class:`ArrowLetters`.
+
+    Parameters
+    ----------
+    tips : sequence of (letter, base, tip)
+        As :meth:`phonglab.render.SceneView.arrow_tips` gives them (world coordinates).
+    legend : sequence of dict
+        The page's legend entries (``letter``, ``color``): each letter's colour.
+    """
+    colours = {entry["letter"]: entry["color"] for entry in legend}
+    return [{"letter": letter, "base": [round(c, 6) for c in base], "tip": [round(c, 6) for c in tip],
+             "color": colours.get(letter, "#ffffff")} for letter, base, tip in tips]

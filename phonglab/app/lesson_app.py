@@ -38,10 +38,11 @@ from trame.app import TrameApp
 
 from phonglab.app import controls as ctl
 from phonglab.app.control import ControlError, finite3, format_value
-from phonglab.app import page, sync, text
+from phonglab.app import eye, page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app.check_question import CheckPanel
 from phonglab.app.student_code import StudentCodePanel
+from phonglab.app import client
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
@@ -109,6 +110,7 @@ class LessonApp(TrameApp):
         self._panels_handle = None
         self._view_ms = 0.0
         self._camera_moved = False
+        self._cameras = eye.Latest(self._apply_camera)  # the browser's newest camera, shaded when free
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
         self.accuracy = AccuracyPanel(self.state, self.notify)
@@ -133,6 +135,7 @@ class LessonApp(TrameApp):
             camera=self.on_camera,
             check_answer=self.check.submit,
             student_code=self.student_code.submit if allow_student_code else None,
+            camera_move=self.on_camera_move,
         ))
         self.open_lesson(first)
 
@@ -345,6 +348,7 @@ class LessonApp(TrameApp):
         s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
                                   scene_plan=verdict, mistake=self.view.mistake)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
+        s.arrow_tips = client.arrow_tips(self.view.arrow_tips(), s.legend)
         self.accuracy.follow(scene)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)
@@ -440,27 +444,74 @@ class LessonApp(TrameApp):
 
     @_guarded
     def on_camera(self, camera=None, *_, **__) -> None:
-        """The browser's camera after the student turned or zoomed the view.
+        """The browser's camera after the student turned, zoomed or panned the view (the drag's end).
 
-        Lighting keeps using the scene's eye; this only makes the server's
-        picture (pixel mode) look from where the browser looks.
+        The view's camera is the scene's eye (:mod:`phonglab.app.eye`): the
+        core re-shades for it, and the arrows, markers, readout and eye
+        controls follow; the picture and numbers are exact for this camera.
         """
+        self._cameras.offer(camera, final=True)
+
+    @_guarded
+    def on_camera_move(self, camera=None, *_, **__) -> None:
+        """The browser's camera during a drag: re-shade for the newest one, dropping stale ones."""
+        self._cameras.offer(camera, final=False)
+
+    def _apply_camera(self, camera, final: bool) -> None:
+        """Make the browser's ``camera`` the scene's and show the re-shaded scene (see :meth:`on_camera`).
+
+        During a drag only the mesh's colours go to the browser (its own
+        copy keeps turning smoothly); at the drag's end the arrows and
+        markers are synchronised too.
+        """
+        if self.scene is None or self.view is None:
+            return
+        start = time.perf_counter()
         try:
-            if not isinstance(camera, dict):
-                return
-            self.view.set_camera(
-                eye=finite3(camera.get("position")),
-                focal_point=finite3(camera.get("focalPoint")),
-                up=finite3(camera.get("viewUp")),
-                view_angle=float(camera.get("viewAngle", self.scene.camera.view_angle)),
-            )
-            self._camera_moved = True
-            if self.scene.interpolation == "pixel":
-                self._refresh_pixels()
+            scene = eye.scene_camera(self.scene, camera)
+            if scene is not self.scene and scene.probe is None:
+                # the default probe stays on the surface point it marks: turning the view moves the eye only
+                scene = scene.replace("probe", [round(float(c), 6) for c in self.view.probe[0]])
         except (ValueError, TypeError, SceneError):
             return  # a malformed camera from the browser is ignored
-        except Exception:
+        try:
+            if scene is not self.scene:
+                self.scene = scene
+                self.view.update(scene, keep_view_angle=True, defer_glyphs=not final)
+                self._camera_moved = True
+                if scene.interpolation != "pixel":
+                    self._push_colours()
+                record("turn", (time.perf_counter() - start) * 1000.0)  # a re-shade (not a camera already shown)
+        except Exception as exc:
             log.exception("camera")
+            self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
+            return
+        # the readout (and at the drag's end the arrows), once the colours have left for the browser
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:  # no server loop (scripts, tests): at once
+            loop = None
+        if loop is None:
+            self._finish_turn(final)
+        elif final:
+            loop.call_later(PANEL_DELAY, self._finish_turn, True)
+        elif self._panels_handle is None:
+            self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
+
+    def _finish_turn(self, final: bool) -> None:
+        """After a re-shade for the browser's camera: the readout; at the drag's end, arrows, markers, pixels."""
+        try:
+            if self.scene is None or self.view is None:
+                return
+            if final:
+                self.view.refresh_glyphs()
+                self.html_view.update()
+                self._refresh_pixels()
+            self._refresh_panels()
+            self.state.flush()
+        except Exception as exc:
+            log.exception("camera")
+            self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
 
     def _on_view_size(self, view_size=None, **_) -> None:
         """The view's size in the browser: the server window (pixel mode, framing) follows it."""

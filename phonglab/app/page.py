@@ -31,7 +31,7 @@ from trame.widgets import vuetify3 as v3
 from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
 from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
 from phonglab.app import check_question, student_code
-from phonglab.app.client import ColorPush
+from phonglab.app.client import ArrowLetters, ColorPush
 from phonglab.app.control import Control
 from phonglab.app.controls import TERMS
 from phonglab.app import truth_ui
@@ -55,6 +55,7 @@ def initial_state() -> dict:
         "plan_computed": [],
         "plan_skipped": [],
         "legend": [],
+        "arrow_tips": [],
         "notice": None,
         "view_colors": None,
         "pixel_src": "",
@@ -87,6 +88,7 @@ class Handlers:
     camera: Callable  #: ``(camera)``: the browser's camera after a turn or zoom
     check_answer: Callable | None = None  #: ``(answer)``: the check question's Check button
     student_code: Callable | None = None  #: ``(code)``: "Grade my code"; None: no panel (the default)
+    camera_move: Callable | None = None  #: ``(camera)``: the browser's camera during a turn or zoom
 
 
 def build_page(server, render_window, handlers: Handlers):
@@ -212,10 +214,13 @@ class _Page:
                     picking_modes=("['click']",),
                     click=(self.handlers.pick, "[$event]"),
                     interactor_settings=("view_interaction", _INTERACTION),
-                    interactor_events=("['EndAnimation']",),
+                    interactor_events=("['EndAnimation', 'Animation']",),
                     EndAnimation=(self.handlers.camera, "[trame.refs.phonglab_view.getCamera()]"),
+                    Animation=(self.handlers.camera_move or self.handlers.camera,
+                               "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.view:
                     ColorPush(push=("view_colors",))
+                    ArrowLetters(tips=("arrow_tips", []), hidden=("pixel_mode",))
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     html.Img(src=("pixel_src",), alt="per-pixel shading by the core")

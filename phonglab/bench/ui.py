@@ -39,7 +39,7 @@ import urllib.error
 import urllib.request
 from pathlib import Path
 
-HELP = "slider-to-pixels latency in a real browser against a minimal trame app"
+HELP = "slider-to-pixels and turn-to-re-shaded-pixels latency in a real browser against a minimal trame app"
 
 #: Debian's Chromium
 CHROMIUM = "/usr/bin/chromium"
@@ -424,6 +424,7 @@ def run(args) -> int:
                 presses=presses,
                 warmup=warmup,
                 label="view",
+                turns=presses,
             )
             css = results["phonglab"]["css"]
             _progress(f"baseline: {BASELINE_POINTS} vertices, view {css[0]}x{css[1]} CSS px, {presses} presses")
@@ -445,7 +446,7 @@ def run(args) -> int:
     return 0
 
 
-def _run_app(browser, command, tmp, name, *, slider, canvas, presses, warmup, label) -> dict:
+def _run_app(browser, command, tmp, name, *, slider, canvas, presses, warmup, label, turns=0) -> dict:
     port = free_port()
     command = command(port)
     timing_path = Path(tmp) / f"{name}-timing.txt"
@@ -463,6 +464,13 @@ def _run_app(browser, command, tmp, name, *, slider, canvas, presses, warmup, la
             timing_path=timing_path,
             label=label,
         )
+        if turns:
+            from phonglab.bench.ui_turn import measure_turn
+
+            _progress(f"{name}: {turns} turns of the view")
+            result["turn"] = measure_turn(browser, f"http://127.0.0.1:{port}/", canvas=canvas, steps=turns,
+                                          warmup=warmup, timing_path=timing_path, viewport=VIEWPORT,
+                                          init_script=MEASURE_JS)
     except Exception as exc:
         raise RuntimeError(f"{name}: {exc}\n--- server log ---\n{log_tail(log_path)}") from exc
     finally:
@@ -500,4 +508,23 @@ def _report(results: dict, points: int) -> None:
     print(f"latency ratio phonglab / baseline (medians): {ratio:.2f}  target <= {RATIO_TARGET:.1f}  "
           f"{_verdict(ratio, RATIO_TARGET)}")
     print(f"phonglab server time per update (median): {server_median:.1f} ms  target <= {SERVER_MS_TARGET:.0f} ms  "
+          f"{_verdict(server_median, SERVER_MS_TARGET)}")
+    turn = results["phonglab"].get("turn")
+    if turn:
+        _report_turn(turn, statistics.median(results["baseline"]["latency_ms"]))
+
+
+def _report_turn(turn: dict, baseline_ms: float) -> None:
+    """Turn of the view to re-shaded pixels, against the baseline's key press to pixels."""
+    latency, server = turn["latency_ms"], turn["server_ms"]
+    median = statistics.median(latency)
+    server_median = statistics.median(server) if server else float("inf")
+    print(f"turn to re-shaded pixels ({len(latency)} drags of {turn['step_px']} px, {turn['missed']} without a "
+          f"re-shade): median {median:.1f} ms, "
+          f"p95 {percentile(latency, 95):.1f} ms; server per re-shade median {server_median:.1f} ms, "
+          f"p95 {percentile(server, 95) if server else float('nan'):.1f} ms")
+    ratio = median / baseline_ms
+    print(f"turn ratio phonglab turn / baseline key press (medians): {ratio:.2f}  target <= {RATIO_TARGET:.1f}  "
+          f"{_verdict(ratio, RATIO_TARGET)}")
+    print(f"phonglab server time per re-shade (median): {server_median:.1f} ms  target <= {SERVER_MS_TARGET:.0f} ms  "
           f"{_verdict(server_median, SERVER_MS_TARGET)}")

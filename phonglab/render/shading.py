@@ -133,9 +133,27 @@ def vertex_colors(scene, mesh, terms=("color",), mistake: str | None = None) -> 
     return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
 
 
+#: the last mesh's face centroids and normals: (key, (centroids, normals)); see :func:`_faces`
+_last_faces: list = [None, None]
+
+
+def _faces(mesh):
+    """:func:`face_centroids_normals`, remembered for the last mesh while its points, normals and cells stay.
+
+    A turn of the view re-shades the same mesh for every new eye; VTK's
+    modification times (a global counter) tell when the geometry changed.
+    """
+    normals = mesh.GetPointData().GetArray("Normals")
+    key = (id(mesh), mesh.GetPoints().GetMTime(), normals.GetMTime() if normals is not None else None,
+           mesh.GetPolys().GetMTime(), mesh.n_cells)
+    if _last_faces[0] != key:
+        _last_faces[:] = [key, face_centroids_normals(mesh)]
+    return _last_faces[1]
+
+
 def face_colors(scene, mesh, terms=("color",), mistake: str | None = None) -> dict[str, np.ndarray]:
     """Flat: uint8 RGB per triangle, shaded at its centroid with its face normal (with ``mistake``, if given)."""
-    centroids, normals = face_centroids_normals(mesh)
+    centroids, normals = _faces(mesh)
     shading = shade(scene, centroids, normals, mistake)
     return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
 

@@ -153,6 +153,8 @@ class SceneView:
         self._arrows = ProbeArrows(glyphs.parse_vectors(vectors))
         self._light_index_choice = light_index
         self._gbuffers = pixels.GBufferCache()
+        self._keep_view_angle = False  # the camera came from a browser: its view angle is not refitted
+        self._stale_glyphs = set()  # scene fields whose change the glyphs do not show yet (defer_glyphs)
 
         # window, renderer, camera
         self.render_window = make_render_window(size, offscreen=offscreen)
@@ -209,13 +211,30 @@ class SceneView:
     # ------------------------------------------------------------------
     # updates
 
-    def update(self, scene) -> None:
+    def update(self, scene, *, keep_view_angle: bool = False, defer_glyphs: bool = False) -> None:
         """Show ``scene``, recomputing only what differs from the current one.
 
         The mesh's colour array is overwritten in place; actors are never
         added on a change of material, lights, model or probe.
+
+        Parameters
+        ----------
+        scene : Scene
+        keep_view_angle : bool
+            The scene's camera is a browser's (the student turned the view):
+            show its view angle as it is, not widened to hold the arrows, until
+            a camera comes without this flag (:meth:`reset_camera`, a new scene).
+            The core shades for this camera's eye either way.
+        defer_glyphs : bool
+            Recolour the mesh and compute the vectors at the probe (the
+            readout's numbers), but leave the arrows' and markers' shapes for
+            later (a drag of the view: the browser gets only the colours until
+            it ends). The next :meth:`update` without it, :meth:`refresh_glyphs`
+            or a render reshapes them.
         """
         old, self.scene = self.scene, scene
+        if old.camera != scene.camera:
+            self._keep_view_angle = bool(keep_view_angle)
         changed = {
             name
             for name in ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe",
@@ -234,11 +253,23 @@ class SceneView:
             self._recolor()
         if changed & {"geometry", "probe"} or ("camera" in changed and scene.probe is None):
             self._arrows.locate(self.mesh, scene)
-        if changed & {"geometry", "probe", "lights", "camera", "two_sided"}:
+        stale = changed & {"geometry", "probe", "lights", "camera", "two_sided", "area_light"}
+        if defer_glyphs:
+            if changed & {"geometry", "probe", "lights", "camera", "two_sided"}:
+                self._arrows.compute(scene, self.light_index)  # the numbers now, the shapes later
+            self._stale_glyphs |= stale
+            return
+        self._stale_glyphs |= stale
+        self.refresh_glyphs()
+
+    def refresh_glyphs(self) -> None:
+        """Reshape the arrows and markers that an :meth:`update` with ``defer_glyphs`` left as they were."""
+        stale, self._stale_glyphs = self._stale_glyphs, set()
+        if stale & {"geometry", "probe", "lights", "camera", "two_sided"}:
             self._update_vectors()
-        if changed & {"lights", "camera", "area_light"}:
+        if stale & {"lights", "camera", "area_light"}:
             self._update_markers()
-        if "camera" in changed:
+        if "camera" in stale:
             self._update_eye_marker()
 
     def set_probe(self, point) -> None:
@@ -364,6 +395,7 @@ class SceneView:
 
     def reset_camera(self) -> None:
         """Look through the scene's camera again (after :meth:`set_camera`), the view angle refitted."""
+        self._keep_view_angle = False
         set_camera(self.renderer.GetActiveCamera(), self.scene.camera)
         self._fit_view_angle()
         self._sync_eye_visibility()
@@ -428,6 +460,8 @@ class SceneView:
         camera = self.renderer.GetActiveCamera()
         width, height = self.render_window.GetSize()
         camera.SetUseHorizontalViewAngle(bool(width < height))
+        if self._keep_view_angle:  # a browser's camera, shown as the browser shows it
+            return
         letters = self._arrows.shown()
         angle = framing.fitted_view_angle(
             self.scene.camera, camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),
@@ -477,6 +511,8 @@ class SceneView:
         tall one, so that a tall panel does not crop the mesh. With arrows
         shown, it is widened if needed to hold them (see the module notes).
         """
+        if self._stale_glyphs:
+            self.refresh_glyphs()
         self._sync_eye_visibility()
         self._fit_view_angle()
         self.renderer.ResetCameraClippingRange()
@@ -587,6 +623,14 @@ class SceneView:
         if path is not None:
             save_png(image, path)
         return image
+
+    def arrow_tips(self) -> list[tuple[str, tuple[float, float, float], tuple[float, float, float]]]:
+        """Every arrow shown as ``(letter, base, tip)`` in world coordinates, for letters a front end draws.
+
+        The base is the probe point; the tip is ``base + direction * arrow_length``.
+        """
+        base = tuple(float(c) for c in self._arrows.point)
+        return [(letter, base, tuple(float(c) for c in self._arrows.tip(letter))) for letter in self._arrows.shown()]
 
     def legend(self) -> list[tuple[str, str, str]]:
         """The vectors shown, for a legend drawn elsewhere (HTML): (letter, meaning, "#rrggbb")."""

@@ -13,6 +13,10 @@ window.phonglab = {
       data() {
         return { pending: null, tries: 0 };
       },
+      mounted() {
+        // the local view this component sits in (tests and benchmarks read its camera and pixels)
+        window.phonglabView = this.view;
+      },
       watch: {
         push(value) {
           this.pending = value;
@@ -54,6 +58,88 @@ window.phonglab = {
           // draw now rather than on the view's next debounced render
           if (this.view.renderer) this.view.renderer.resetCameraClippingRange();
           this.view.renderWindow.render();
+          // the re-shaded colours are on screen (phonglab bench ui times a turn to this moment)
+          window.dispatchEvent(new CustomEvent("phonglab-colors-applied"));
+        },
+      },
+      template: "<div style='display:none'></div>",
+    });
+
+    // <phonglab-letters :tips="..."> sits inside a <vtk-local-view>: the letters N, L, R, V, H
+    // at the arrow tips ({letter, base, tip, color}, world coordinates). Each frame in which the
+    // browser's camera or the canvas changed, the tips are projected with the browser's own
+    // camera; a letter goes just past its tip along the arrow (above it for an arrow seen
+    // end-on, like V), and a letter that would cover another one is moved aside.
+    const LETTER_GAP = 11; // pixels from the tip to the letter's centre
+    const LETTER_BOX = 17; // pixels a letter keeps free around its centre
+    app.component("phonglab-letters", {
+      props: { tips: { type: Array, default: () => [] }, hidden: { type: Boolean, default: false } },
+      inject: { view: { default: null } },
+      mounted() {
+        const host = this.$el.closest(".phonglab-view") || this.$el.parentNode;
+        this.host = host;
+        this.layer = document.createElement("div");
+        this.layer.className = "phonglab-letters";
+        host.appendChild(this.layer);
+        this.seen = "";
+        this.loop = requestAnimationFrame(() => this.tick());
+      },
+      beforeUnmount() {
+        cancelAnimationFrame(this.loop);
+        if (this.layer) this.layer.remove();
+      },
+      watch: {
+        tips() { this.seen = ""; },
+        hidden() { this.seen = ""; },
+      },
+      methods: {
+        tick() {
+          this.loop = requestAnimationFrame(() => this.tick());
+          const view = this.view;
+          const renderer = view && view.renderer;
+          const canvas = this.host.querySelector("canvas");
+          if (!renderer || !canvas) return;
+          const camera = renderer.getActiveCamera();
+          const key = `${camera.getMTime()} ${canvas.clientWidth} ${canvas.clientHeight} ${canvas.offsetLeft} ${canvas.offsetTop}`;
+          if (key === this.seen) return;
+          this.seen = key;
+          this.draw(renderer, canvas);
+        },
+        draw(renderer, canvas) {
+          const layer = this.layer;
+          layer.style.display = this.hidden ? "none" : "";
+          const w = canvas.clientWidth, h = canvas.clientHeight;
+          if (this.hidden || !w || !h) return;
+          const aspect = w / h;
+          const screen = (p) => {
+            const d = renderer.worldToNormalizedDisplay(p[0], p[1], p[2], aspect);
+            return [canvas.offsetLeft + d[0] * w, canvas.offsetTop + (1 - d[1]) * h];
+          };
+          const placed = [];
+          for (const t of this.tips || []) {
+            const base = screen(t.base), tip = screen(t.tip);
+            let dx = tip[0] - base[0], dy = tip[1] - base[1];
+            const length = Math.hypot(dx, dy);
+            if (length < 4) { dx = 0; dy = -1; } else { dx /= length; dy /= length; }
+            const label = { t, x: tip[0] + dx * LETTER_GAP, y: tip[1] + dy * LETTER_GAP };
+            // nearly coinciding arrows: step the letter on past the one it would cover
+            for (let tries = 0; tries < 8; tries++) {
+              const clash = placed.find((o) => Math.abs(o.x - label.x) < LETTER_BOX && Math.abs(o.y - label.y) < LETTER_BOX);
+              if (!clash) break;
+              label.x = clash.x + LETTER_BOX;
+            }
+            placed.push(label);
+          }
+          while (layer.children.length > placed.length) layer.lastChild.remove();
+          placed.forEach((label, i) => {
+            let span = layer.children[i];
+            if (!span) { span = document.createElement("span"); span.className = "phonglab-letter"; layer.appendChild(span); }
+            span.textContent = label.t.letter;
+            span.dataset.letter = label.t.letter;
+            span.style.color = label.t.color;
+            span.style.left = `${label.x.toFixed(1)}px`;
+            span.style.top = `${label.y.toFixed(1)}px`;
+          });
         },
       },
       template: "<div style='display:none'></div>",

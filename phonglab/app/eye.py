@@ -1,0 +1,132 @@
+"""The view's camera is the model's eye: a browser's camera becomes the scene's.
+
+When the student turns, zooms or pans the 3D view, the browser sends its
+camera (vtk.js ``getCamera()``: ``position``, ``focalPoint``, ``viewUp``,
+``viewAngle``). :func:`scene_camera` checks it once, at this boundary, and
+makes it the scene's ``camera`` (its eye is the lighting's eye; the
+scene's ``infinite_viewer`` setting is kept, so the direction
+``(eye - focal_point)`` is the constant view vector of an infinite viewer).
+The core then shades for it like for any other scene change.
+
+During a drag the browser sends a camera every frame, faster than the
+server can shade a large mesh. :class:`Latest` keeps only the newest camera
+and runs one re-shade for it as soon as the server is free: stale cameras
+are dropped, never queued. The camera sent when the drag ends is marked
+``final``: its re-shade also synchronises the arrows and markers, so the
+picture and the numbers are exact for the camera the drag ended at.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from typing import Callable
+
+#: the browser camera's keys and the scene camera fields they set
+BROWSER_KEYS = {"position": "camera.eye", "focalPoint": "camera.focal_point", "viewUp": "camera.up",
+                "viewAngle": "camera.view_angle"}
+
+
+def _three(name: str, value) -> list[float]:
+    """Three finite floats, or ValueError naming the key, the value and what is allowed."""
+    try:
+        numbers = [float(c) for c in value]
+    except (TypeError, ValueError):
+        numbers = []
+    if len(numbers) != 3 or not all(math.isfinite(c) for c in numbers):
+        raise ValueError(f"camera.{name}: must be 3 finite numbers, got {value!r}")
+    return numbers
+
+
+def camera_settings(camera) -> list[tuple[str, object]]:
+    """The scene settings ``(field path, value)`` for a browser's camera.
+
+    Parameters
+    ----------
+    camera : dict
+        ``{"position": [x, y, z], "focalPoint": [...], "viewUp": [...], "viewAngle": degrees}``;
+        ``viewAngle`` may be left out (the scene's stays).
+
+    Raises
+    ------
+    ValueError
+        For a camera that is not a dict, or a point or direction that is not
+        3 finite numbers, or a view angle that is not a finite number. (Whether
+        the camera makes sense, e.g. an eye on the focal point, is checked by
+        the scene, which raises SceneError.)
+    """
+    if not isinstance(camera, dict):
+        raise ValueError(f"camera: must be a dict of position, focalPoint, viewUp, got {camera!r}")
+    settings = [(BROWSER_KEYS[key], _three(key, camera.get(key))) for key in ("position", "focalPoint", "viewUp")]
+    if camera.get("viewAngle") is not None:
+        try:
+            angle = float(camera["viewAngle"])
+        except (TypeError, ValueError):
+            angle = math.nan
+        if not math.isfinite(angle):
+            raise ValueError(f"camera.viewAngle: must be a finite number of degrees, got {camera['viewAngle']!r}")
+        settings.append(("camera.view_angle", angle))
+    return settings
+
+
+def scene_camera(scene, camera):
+    """``scene`` seen through a browser's ``camera`` (see :func:`camera_settings`), validated.
+
+    Returns the same scene object when the camera is the scene's already.
+    """
+    moved = scene.replace_many(camera_settings(camera))
+    return scene if moved.camera == scene.camera else moved
+
+
+class Latest:
+    """Run ``apply(camera, final)`` for the newest camera only, once the server is free.
+
+    Parameters
+    ----------
+    apply : callable
+        ``apply(camera, final)``; called from the event loop (or at once
+        when there is no running loop, as in scripts and tests).
+
+    Notes
+    -----
+    :meth:`offer` stores the camera and, if no run is scheduled, schedules
+    one with ``call_soon``. Cameras offered before that run replace each
+    other: only the newest is shaded. ``final`` sticks until the run, so a
+    drag's last camera is never downgraded to an intermediate one.
+    """
+
+    def __init__(self, apply: Callable):
+        self._apply = apply
+        self._wanted = None
+        self._handle = None
+        #: cameras offered and cameras applied (dropped = offered - applied)
+        self.offered = 0
+        self.applied = 0
+
+    def offer(self, camera, *, final: bool) -> None:
+        """The browser's newest camera; ``final`` when the drag has ended."""
+        self.offered += 1
+        final = bool(final) or bool(self._wanted and self._wanted[1])
+        self._wanted = (camera, final)
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:
+            self.run()
+            return
+        if self._handle is None:
+            self._handle = loop.call_soon(self.run)
+
+    def run(self) -> None:
+        """Apply the newest camera (nothing when none is waiting)."""
+        self._handle = None
+        wanted, self._wanted = self._wanted, None
+        if wanted is not None:
+            self.applied += 1
+            self._apply(*wanted)
+
+    def cancel(self) -> None:
+        """Forget a waiting camera."""
+        if self._handle is not None:
+            self._handle.cancel()
+            self._handle = None
+        self._wanted = None
