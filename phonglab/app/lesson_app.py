@@ -86,14 +86,15 @@ class LessonApp(TrameApp):
     server : trame server or name
     target : path
         A lessons folder, a lesson file or a scene file.
-    export_dir : path
-        Where the export button writes figures.
+    export_dir : path or None
+        Where the export buttons also keep a copy of each figure on the
+        server; None (the default): the figures go to the browser only.
     """
 
-    def __init__(self, server=None, *, target, export_dir="phonglab-exports"):
+    def __init__(self, server=None, *, target, export_dir=None):
         super().__init__(server)
         self.server.enable_module(MODULE)
-        self.export_dir = Path(export_dir)
+        self.export_dir = Path(export_dir) if export_dir is not None else None
         self.entries, first = catalog(target)
         self.index = None
         self.entry = None
@@ -471,16 +472,27 @@ class LessonApp(TrameApp):
                 self._refresh_pixels()
 
     @_guarded
-    def export_figure(self, *_, **__) -> None:
-        """Save the current scene as a PNG through :func:`phonglab.render.figure`."""
-        from phonglab.render import figure
+    def export_figure(self, kind="render", *_, **__) -> None:
+        """Send the current scene's figure (``kind``: render, terms or mistake) to the browser as a download.
+
+        A copy is written on the server only when the app has an export folder.
+        """
+        from phonglab.app import download
 
         try:
-            self.export_dir.mkdir(parents=True, exist_ok=True)
+            kind = kind if kind in download.KINDS else "render"
+            mistake = self.entry.lesson.mistake if self.entry and self.entry.lesson else None
+            data = download.render_png(self.scene, kind, mistake)
             stem = f"lesson-{self.entry.number:02d}" if self.entry.number is not None else self.entry.path.stem
-            name = f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}.png"
-            path = figure(self.scene, self.export_dir / name, vectors="NLRVH")
-            self.notify("success", f"Saved {path}")
+            name = download.file_name(stem, kind)
+            self._download_serial = getattr(self, "_download_serial", 0) + 1
+            self.state[download.STATE_KEY] = {"name": name, "url": download.data_url(data),
+                                              "serial": self._download_serial}
+            if self.export_dir is not None:
+                path = download.server_copy(self.export_dir, name, data)
+                self.notify("success", f"Downloaded {name}; saved {path}")
+            else:
+                self.notify("success", f"Downloaded {name}")
         except Exception as exc:
             log.exception("export")
             self.notify("error", f"Export failed: {exc}")

@@ -28,6 +28,7 @@ from trame.widgets import client, html
 from trame.widgets import vtk as vtk_widgets
 from trame.widgets import vuetify3 as v3
 
+from phonglab.app import download
 from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
 from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
 from phonglab.app.client import ColorPush
@@ -54,6 +55,7 @@ def initial_state() -> dict:
         "plan_skipped": [],
         "legend": [],
         "notice": None,
+        "phonglab_download": None,  # a figure on its way to the browser (app/download.py)
         "view_colors": None,
         "pixel_src": "",
         "pixel_mode": False,
@@ -132,6 +134,15 @@ class _Page:
                 v3.VBtn("Export PNG", prepend_icon="mdi-image-outline", variant="tonal", color="primary",
                         click=self.handlers.export_figure, disabled=("lesson_errors.length > 0",),
                         classes="phonglab-export ml-2 mr-2")
+                # more figures to download: the per-term figure and the mistake comparison
+                with v3.VMenu():
+                    with html.Template(v_slot_activator="{ props }"):
+                        v3.VBtn(icon="mdi-menu-down", v_bind="props", variant="text", density="comfortable",
+                                disabled=("lesson_errors.length > 0",), title="More figures to download",
+                                classes="phonglab-export-more mr-2")
+                    with v3.VList(density="compact"):
+                        download.export_menu_items(self.handlers.export_figure)
+                download.download_link()
             with v3.VNavigationDrawer(v_model=("drawer",), temporary=True, width=300, classes="phonglab-drawer"):
                 v3.VListSubheader("Lessons")
                 with v3.VList(density="compact", nav=True):

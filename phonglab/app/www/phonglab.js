@@ -58,6 +58,24 @@ window.phonglab = {
       },
       template: "<div style='display:none'></div>",
     });
+    // <phonglab-download :file="..."> saves each new {name, url, serial} the server
+    // sends as a download in this browser (an <a download> clicked once).
+    app.component("phonglab-download", {
+      props: { file: { type: Object, default: null } },
+      watch: {
+        file(value) {
+          if (!value || !value.url) return;
+          const link = document.createElement("a");
+          link.href = value.url;
+          link.download = value.name || "phonglab.png";
+          link.style.display = "none";
+          document.body.appendChild(link);
+          link.click();
+          link.remove();
+        },
+      },
+      template: "<div style='display:none'></div>",
+    });
   },
 };
 
