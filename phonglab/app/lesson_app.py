@@ -490,9 +490,9 @@ class LessonApp(TrameApp):
                                               "serial": self._download_serial}
             if self.export_dir is not None:
                 path = download.server_copy(self.export_dir, name, data)
-                self.notify("success", f"Downloaded {name}; saved {path}")
+                self.notify("success", f"Saved {path}; downloading {name}")
             else:
-                self.notify("success", f"Downloaded {name}")
+                self.notify("success", f"Downloading {name}")
         except Exception as exc:
             log.exception("export")
             self.notify("error", f"Export failed: {exc}")
