@@ -40,6 +40,7 @@ from phonglab.app import controls as ctl
 from phonglab.app.control import ControlError, finite3, format_value
 from phonglab.app import page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
+from phonglab.app import address
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
@@ -112,6 +113,7 @@ class LessonApp(TrameApp):
         self._init_state()
         self.accuracy = AccuracyPanel(self.state, self.notify)
         self.state.change("view_size")(self._on_view_size)
+        self.state.change(address.REQUEST_KEY)(self._on_address)
         # cheaper full synchronisations (after trame-vtk has set up this session)
         sync.install()
         self.ctrl.on_server_ready.add(lambda **_: sync.install())
@@ -166,6 +168,7 @@ class LessonApp(TrameApp):
         s.lesson_index = index
         s.lesson_title = entry.title
         s.lesson_number = entry.number
+        s[address.QUERY_KEY] = address.query_for(entry)  # the address bar follows the lesson
         s.show_answer = False
         s.notice = None
         if not entry.ok:
@@ -496,6 +499,14 @@ class LessonApp(TrameApp):
         except Exception as exc:
             log.exception("export")
             self.notify("error", f"Export failed: {exc}")
+
+    def _on_address(self, **_) -> None:
+        """The page was opened with an address: open the lesson it names (a bad one gives a notice)."""
+        index, problem = address.lesson_index(self.state[address.REQUEST_KEY], self.entries)
+        if problem:
+            self.notify("warning", problem)
+        elif index is not None and index != self.index:
+            self.open_lesson(index)
 
     def _open_from_list(self, index=None, *_, **__):
         """A lesson picked in the list: close the list and open it."""

@@ -56,6 +56,8 @@ def initial_state() -> dict:
         "legend": [],
         "notice": None,
         "phonglab_download": None,  # a figure on its way to the browser (app/download.py)
+        "url_query": "",  # the address of the view shown (app/address.py)
+        "url_request": None,  # the address the page was opened with
         "view_colors": None,
         "pixel_src": "",
         "pixel_mode": False,
@@ -85,6 +87,18 @@ class Handlers:
     apply_experiment: Callable  #: ``(index)``: an experiment's Apply button
     pick: Callable  #: ``(event)``: a click on the view (``event["ray"]``)
     camera: Callable  #: ``(camera)``: the browser's camera after a turn or zoom
+
+
+def address_element():
+    """``<phonglab-address :query="url_query">``: keeps the address bar on the lesson (``www/phonglab.js``)."""
+    from trame_client.widgets.core import AbstractElement
+
+    class Address(AbstractElement):
+        def __init__(self, **kwargs):
+            super().__init__("phonglab-address", **kwargs)
+            self._attr_names += ["query"]
+
+    return Address(query=("url_query", ""))
 
 
 def build_page(server, render_window, handlers: Handlers):
@@ -143,6 +157,7 @@ class _Page:
                     with v3.VList(density="compact"):
                         download.export_menu_items(self.handlers.export_figure)
                 download.download_link()
+                address_element()
             with v3.VNavigationDrawer(v_model=("drawer",), temporary=True, width=300, classes="phonglab-drawer"):
                 v3.VListSubheader("Lessons")
                 with v3.VList(density="compact", nav=True):

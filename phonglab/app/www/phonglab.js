@@ -58,6 +58,25 @@ window.phonglab = {
       },
       template: "<div style='display:none'></div>",
     });
+    // <phonglab-address :query="url_query"> writes the server's query of the view into
+    // the address bar (history.replaceState) and, once, sends the query the page was
+    // opened with to the server (url_request), which checks it and opens that lesson.
+    app.component("phonglab-address", {
+      props: { query: { type: String, default: "" } },
+      mounted() {
+        const asked = window.location.search;
+        if (asked && window.trame && window.trame.state) window.trame.state.set("url_request", asked);
+        else if (this.query) window.history.replaceState(null, "", window.location.pathname + this.query);
+      },
+      watch: {
+        query(value) {
+          if (value && value !== window.location.search) {
+            window.history.replaceState(null, "", window.location.pathname + value + window.location.hash);
+          }
+        },
+      },
+      template: "<div style='display:none'></div>",
+    });
     // <phonglab-download :file="..."> saves each new {name, url, serial} the server
     // sends as a download in this browser (an <a download> clicked once).
     app.component("phonglab-download", {
