@@ -68,3 +68,32 @@ def test_the_address_carries_the_lesson_through_reload_and_a_fresh_tab(app_page,
         assert _lesson_title(other).endswith("A red sphere"), _lesson_title(other)
     finally:
         context.close()
+
+
+def test_after_a_server_restart_the_tab_comes_back_to_the_same_lesson(browser, lesson_dir, tmp_path):
+    from phonglab.bench.ui import free_port, serve_command, start_server, stop_server, wait_until_serving
+
+    port = free_port()
+    command = serve_command(lesson_dir, port)
+    process = start_server(command, log_path=tmp_path / "first.log")
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    try:
+        wait_until_serving(process, port, log_path=tmp_path / "first.log")
+        page = context.new_page()
+        page.goto(f"http://127.0.0.1:{port}/?lesson=02-spot")
+        title = ("() => { const e = document.querySelector('.phonglab-lesson-title');"
+                 " return e && e.innerText.endsWith('A spotlight on a floor'); }")
+        page.wait_for_function(title, timeout=60_000)
+        stop_server(process)
+        # the page says it is reconnecting ...
+        page.wait_for_selector(".phonglab-reconnecting", state="visible", timeout=30_000)
+        assert "Reconnecting" in page.locator(".phonglab-reconnecting").inner_text()
+        # ... and, once the server is back on the same port, shows the same lesson again by itself
+        process = start_server(command, log_path=tmp_path / "second.log")
+        wait_until_serving(process, port, log_path=tmp_path / "second.log")
+        page.wait_for_function(title, timeout=60_000)
+        page.wait_for_selector(".phonglab-reconnecting", state="detached", timeout=30_000)
+        assert page.url.endswith("?lesson=02-spot"), page.url
+    finally:
+        context.close()
+        stop_server(process)

@@ -169,3 +169,43 @@ window.phonglab = {
   }, true);
   window.phonglabFitMath = fitAll;
 })();
+
+// After a server restart the page comes back by itself: when the connection to
+// the server closes, a "Reconnecting…" banner shows and the page asks the server
+// every second; once it answers, the page reloads and its address (the lesson)
+// brings back the same view.
+(function () {
+  let leaving = false;
+  let waiting = false;
+  window.addEventListener("beforeunload", () => { leaving = true; });
+
+  function banner() {
+    if (document.querySelector(".phonglab-reconnecting")) return;
+    const note = document.createElement("div");
+    note.className = "phonglab-reconnecting";
+    note.setAttribute("role", "status");
+    note.textContent = "Connection to the server lost. Reconnecting…";
+    document.body.appendChild(note);
+  }
+
+  function poll() {
+    fetch(window.location.pathname, { cache: "no-store" })
+      .then((answer) => { if (answer.ok) window.location.reload(); else setTimeout(poll, 1000); })
+      .catch(() => setTimeout(poll, 1000));
+  }
+
+  function lost() {
+    if (leaving || waiting) return;
+    waiting = true;
+    banner();
+    setTimeout(poll, 1000);
+  }
+
+  // trame's client made its connection before this script loaded: subscribe to its closing
+  function subscribe() {
+    const client = window.trame && window.trame.client;
+    if (client && typeof client.onConnectionClose === "function") client.onConnectionClose(lost);
+    else setTimeout(subscribe, 500);
+  }
+  subscribe();
+})();
