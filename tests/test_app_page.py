@@ -218,6 +218,22 @@ def test_export_writes_a_png_through_the_figure_code(app):
     assert app.state.notice["kind"] == "success", app.state.notice
     files = list(app.export_dir.glob("lesson-01-*.png"))
     assert len(files) == 1 and files[0].read_bytes()[:4] == b"\x89PNG"
+    # the same bytes go to the browser as a download
+    sent = app.state.phonglab_download
+    assert sent["name"] == files[0].name and sent["url"].startswith("data:image/png;base64,"), sent["name"]
+    import base64
+
+    assert base64.b64decode(sent["url"].split(",", 1)[1]) == files[0].read_bytes()
+
+
+def test_export_without_an_export_folder_leaves_no_server_copy(app, tmp_path, monkeypatch):
+    monkeypatch.setattr(app, "export_dir", None)
+    monkeypatch.chdir(tmp_path)
+    before = sorted(tmp_path.rglob("*"))
+    app.export_figure("terms")
+    assert app.state.notice["kind"] == "success", app.state.notice
+    assert "-terms-" in app.state.phonglab_download["name"]
+    assert sorted(tmp_path.rglob("*")) == before, "a file was written on the server"
 
 
 MISTAKE_LESSON = GOOD.replace('probe = [0.3, 0.4, 0.866]', 'probe = [0.3, 0.4, 0.866]\nmistake = "unnormalised-normals"')

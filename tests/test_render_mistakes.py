@@ -362,8 +362,12 @@ def test_terms_show_the_wrong_terms(monkeypatch, tmp_path):
         placed.append((np.array(image), box)), place(fig, image, box, size)))
     texts = figure_texts(monkeypatch, tmp_path, scene, size=(480, 200), terms=True, mistake="zero-shininess")
     assert len(placed) == 4, f"{len(placed)} panels"
+    # the panels share the background that keeps them readable: the renders' own or the light one
+    background = next(bg for bg in (figures.BACKGROUND, figures.PAPER)
+                      if np.abs(placed[0][0][-1, 0] - np.round(np.array(bg) * 255)).max() <= 1)
     for (wrong, box), term in zip(placed, ["ambient", "diffuse", "specular", "color"]):
-        right = figures.render(scene, box[2:], vectors=None, term=term, supersample=1, legend=False)
+        right = figures.render(scene, box[2:], vectors=None, term=term, supersample=1, legend=False,
+                               background=background)
         fraction = changed(right, wrong).mean()
         if term in ("ambient", "diffuse"):
             assert fraction == 0, f"{term} panel changed by zero shininess ({fraction:.2%})"

@@ -18,15 +18,15 @@ from pathlib import Path
 __all__ = ["make_app", "serve"]
 
 
-def make_app(target, *, export_dir="phonglab-exports", allow_student_code=False):
+def make_app(target, *, export_dir=None, allow_student_code=False):
     """A factory ``name -> LessonApp`` for :class:`~phonglab.app.server.SessionServer`.
 
     Parameters
     ----------
     target : path
         A lessons folder, a lesson (``.md``) or a scene (``.toml``).
-    export_dir : path
-        Where the page's export button writes figures.
+    export_dir : path or None
+        Where the page's exports also keep a server copy (None: browser download only).
     allow_student_code : bool
         Show the "Your code" panel, which runs students' code on this server
         in the grader's sandbox (:mod:`phonglab.app.student_code`). Off by default.
@@ -44,7 +44,7 @@ def make_app(target, *, export_dir="phonglab-exports", allow_student_code=False)
     return build
 
 
-def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phonglab-exports", on_ready=None,
+def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None, on_ready=None,
           allow_origins=(), max_sessions: int | None = None, allow_student_code=False) -> None:
     """Serve the lessons at ``target`` until interrupted.
 
@@ -54,8 +54,8 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir="phon
         A lessons folder, a lesson file or a scene file.
     host, port
         Where to listen (127.0.0.1 by default: this machine only; port 0 picks one).
-    export_dir : path
-        Where the export button writes figures.
+    export_dir : path or None
+        Where the page's exports also keep a server copy (None: browser download only).
     on_ready : callable, optional
         Called with the bound port once the server accepts connections.
     allow_origins : iterable of str

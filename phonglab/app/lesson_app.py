@@ -43,6 +43,7 @@ from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app.check_question import CheckPanel
 from phonglab.app.student_code import StudentCodePanel
 from phonglab.app import client
+from phonglab.app import address
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
@@ -89,14 +90,15 @@ class LessonApp(TrameApp):
     server : trame server or name
     target : path
         A lessons folder, a lesson file or a scene file.
-    export_dir : path
-        Where the export button writes figures.
+    export_dir : path or None
+        Where the export buttons also keep a copy of each figure on the
+        server; None (the default): the figures go to the browser only.
     """
 
-    def __init__(self, server=None, *, target, export_dir="phonglab-exports", allow_student_code=False):
+    def __init__(self, server=None, *, target, export_dir=None, allow_student_code=False):
         super().__init__(server)
         self.server.enable_module(MODULE)
-        self.export_dir = Path(export_dir)
+        self.export_dir = Path(export_dir) if export_dir is not None else None
         self.entries, first = catalog(target)
         self.index = None
         self.entry = None
@@ -117,6 +119,7 @@ class LessonApp(TrameApp):
         self.check = CheckPanel(self.state)
         self.student_code = StudentCodePanel(self.state, allow_student_code)
         self.state.change("view_size")(self._on_view_size)
+        self.state.change(address.REQUEST_KEY)(self._on_address)
         # cheaper full synchronisations (after trame-vtk has set up this session)
         sync.install()
         self.ctrl.on_server_ready.add(lambda **_: sync.install())
@@ -174,6 +177,7 @@ class LessonApp(TrameApp):
         s.lesson_index = index
         s.lesson_title = entry.title
         s.lesson_number = entry.number
+        s[address.QUERY_KEY] = address.query_for(entry)  # the address bar follows the lesson
         s.show_answer = False
         s.notice = None
         self.check.open(entry.lesson if entry.ok else None)
@@ -529,20 +533,39 @@ class LessonApp(TrameApp):
                 self._refresh_pixels()
 
     @_guarded
-    def export_figure(self, *_, **__) -> None:
-        """Save the current scene as a PNG through :func:`phonglab.render.figure`."""
-        from phonglab.render import figure
+    def export_figure(self, kind="render", *_, **__) -> None:
+        """Send the current scene's figure (``kind``: render, terms or mistake) to the browser as a download.
+
+        A copy is written on the server only when the app has an export folder.
+        """
+        from phonglab.app import download
 
         try:
-            self.export_dir.mkdir(parents=True, exist_ok=True)
-            stem = f"lesson-{self.entry.number:02d}" if self.entry.number is not None else self.entry.path.stem
-            name = f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}.png"
+            kind = kind if kind in download.KINDS else "render"
+            mistake = self.entry.lesson.mistake if self.entry and self.entry.lesson else None
             # the mistake the view shows, if any: the export is shaded with it and carries the red band
-            path = figure(self.scene, self.export_dir / name, vectors="NLRVH", mistake=self.view.mistake)
-            self.notify("success", f"Saved {path}")
+            data = download.render_png(self.scene, kind, mistake, shown_mistake=self.view.mistake)
+            stem = f"lesson-{self.entry.number:02d}" if self.entry.number is not None else self.entry.path.stem
+            name = download.file_name(stem, kind)
+            self._download_serial = getattr(self, "_download_serial", 0) + 1
+            self.state[download.STATE_KEY] = {"name": name, "url": download.data_url(data),
+                                              "serial": self._download_serial}
+            if self.export_dir is not None:
+                path = download.server_copy(self.export_dir, name, data)
+                self.notify("success", f"Saved {path}; downloading {name}")
+            else:
+                self.notify("success", f"Downloading {name}")
         except Exception as exc:
             log.exception("export")
             self.notify("error", f"Export failed: {exc}")
+
+    def _on_address(self, **_) -> None:
+        """The page was opened with an address: open the lesson it names (a bad one gives a notice)."""
+        index, problem = address.lesson_index(self.state[address.REQUEST_KEY], self.entries)
+        if problem:
+            self.notify("warning", problem)
+        elif index is not None and index != self.index:
+            self.open_lesson(index)
 
     def _open_from_list(self, index=None, *_, **__):
         """A lesson picked in the list: close the list and open it."""

@@ -28,6 +28,7 @@ from trame.widgets import client, html
 from trame.widgets import vtk as vtk_widgets
 from trame.widgets import vuetify3 as v3
 
+from phonglab.app import download
 from phonglab.app.accuracy_panel import METHODS as ACCURACY_METHODS
 from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
 from phonglab.app import check_question, student_code
@@ -57,6 +58,9 @@ def initial_state() -> dict:
         "legend": [],
         "arrow_tips": [],
         "notice": None,
+        "phonglab_download": None,  # a figure on its way to the browser (app/download.py)
+        "url_query": "",  # the address of the view shown (app/address.py)
+        "url_request": None,  # the address the page was opened with
         "view_colors": None,
         "pixel_src": "",
         "pixel_mode": False,
@@ -89,6 +93,18 @@ class Handlers:
     check_answer: Callable | None = None  #: ``(answer)``: the check question's Check button
     student_code: Callable | None = None  #: ``(code)``: "Grade my code"; None: no panel (the default)
     camera_move: Callable | None = None  #: ``(camera)``: the browser's camera during a turn or zoom
+
+
+def address_element():
+    """``<phonglab-address :query="url_query">``: keeps the address bar on the lesson (``www/phonglab.js``)."""
+    from trame_client.widgets.core import AbstractElement
+
+    class Address(AbstractElement):
+        def __init__(self, **kwargs):
+            super().__init__("phonglab-address", **kwargs)
+            self._attr_names += ["query"]
+
+    return Address(query=("url_query", ""))
 
 
 def build_page(server, render_window, handlers: Handlers):
@@ -138,6 +154,16 @@ class _Page:
                 v3.VBtn("Export PNG", prepend_icon="mdi-image-outline", variant="tonal", color="primary",
                         click=self.handlers.export_figure, disabled=("lesson_errors.length > 0",),
                         classes="phonglab-export ml-2 mr-2")
+                # more figures to download: the per-term figure and the mistake comparison
+                with v3.VMenu():
+                    with html.Template(v_slot_activator="{ props }"):
+                        v3.VBtn(icon="mdi-menu-down", v_bind="props", variant="text", density="comfortable",
+                                disabled=("lesson_errors.length > 0",), title="More figures to download",
+                                classes="phonglab-export-more mr-2")
+                    with v3.VList(density="compact"):
+                        download.export_menu_items(self.handlers.export_figure)
+                download.download_link()
+                address_element()
             with v3.VNavigationDrawer(v_model=("drawer",), temporary=True, width=300, classes="phonglab-drawer"):
                 v3.VListSubheader("Lessons")
                 with v3.VList(density="compact", nav=True):

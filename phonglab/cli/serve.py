@@ -38,8 +38,9 @@ def add_parser(subparsers):
                         help="a lesson file, a lesson number, a lessons folder or a scene file (default: lessons/)")
     parser.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     parser.add_argument("--port", type=_port, default=8080, help="port to listen on (default 8080; 0 picks a free one)")
-    parser.add_argument("--export-dir", default="phonglab-exports", metavar="DIR",
-                        help="where the page's export button saves figures (default phonglab-exports/)")
+    parser.add_argument("--export-dir", default=None, metavar="DIR",
+                        help="also keep a server copy of each figure exported from the page there "
+                             "(default: none; exports download to the browser)")
     parser.add_argument("--allow-origin", action="append", default=[], type=_origin, metavar="ORIGIN",
                         help="also accept pages from ORIGIN (scheme://host[:port], e.g. https://phong.school.org "
                              "behind a proxy); repeatable. The page's own address is always accepted")

@@ -38,7 +38,18 @@ from phonglab.render.captions import (
 )
 from phonglab.render.errors import FigureError
 from phonglab.render.glyphs import parse_vectors
-from phonglab.render.layout import canvas, cell_labels, frame, grid_layout, grid_titles, place, unit
+from phonglab.render.layout import (
+    MIN_CONTRAST,
+    canvas,
+    cell_labels,
+    fill,
+    frame,
+    grid_layout,
+    grid_titles,
+    place,
+    subject_contrast,
+    unit,
+)
 from phonglab.render.options import (
     AUTO,
     DEFAULT_SIZE,
@@ -79,7 +90,8 @@ def render(scene, size, *, vectors="NLRVH", term="color", supersample: int = 2, 
     size : (int, int)
         Width and height of the image.
     vectors : str or None
-        Which of N, L, R, V, H to draw.
+        Which of N, L, R, V, H to draw; with none, the light and eye markers
+        are left out too.
     term : str
         ``"color"`` or one of ``"ambient"``, ``"diffuse"``, ``"specular"``.
     supersample : int
@@ -97,8 +109,9 @@ def render(scene, size, *, vectors="NLRVH", term="color", supersample: int = 2, 
     big = (size[0] * ss, size[1] * ss)
     own = view is None
     if own:
+        # no vectors asked for: a clean picture, without the light and eye markers over the surface
         view = SceneView(scene, size=big, vectors=vectors, term=term, background=background, vtk_text=False,
-                         mistake=mistake)
+                         mistake=mistake, markers=bool(parse_vectors(vectors)))
     else:
         view.set_size(big)
         view.update(scene)
@@ -256,7 +269,7 @@ def figure(
 
 
 def _grid_figure(scene, cells, rows, cols, size, letters, supersample, background, progress,
-                 *, row_titles=None, col_titles=None, title="", band=None):
+                 *, row_titles=None, col_titles=None, title="", band=None, labels=None):
     """Render ``cells`` into a labelled grid figure.
 
     Parameters
@@ -267,6 +280,12 @@ def _grid_figure(scene, cells, rows, cols, size, letters, supersample, backgroun
     band : callable, optional
         ``band(fig) -> pixels``: draws a band at the top of the figure and
         returns its height; the grid goes below it.
+    labels : list of (text, box colour), optional
+        A label per cell, drawn in a strip at the cell's top with the render
+        below it (never over it). The cells then share one background that
+        keeps every panel readable: ``background`` when each panel's subject
+        has a contrast of at least :data:`~phonglab.render.layout.MIN_CONTRAST`
+        against it, else :data:`PAPER` when that does better.
 
     Returns
     -------
@@ -274,36 +293,77 @@ def _grid_figure(scene, cells, rows, cols, size, letters, supersample, backgroun
         The figure, the cells' pixel boxes (x, y_from_top, w, h) by row, and the layout unit.
     """
     fig = canvas(size, facecolor="white")
-    top_offset = band(fig) if band is not None else 0
-    boxes, u = grid_layout(size, rows, cols, title=bool(title), row_labels=bool(row_titles),
-                           col_labels=bool(col_titles), top_offset=top_offset)
-    view = None
-    total = len(cells)
     try:
-        for i, (cell_scene, term, label, mistake) in enumerate(cells):
-            r, c = divmod(i, cols)
-            box = boxes[r][c]
-            cell_size = (box[2], box[3])
-            if view is None:
-                ss = max(1, int(supersample))
-                view = SceneView(cell_scene, size=(cell_size[0] * ss, cell_size[1] * ss), vectors=letters,
-                                 term=term, background=background, vtk_text=False, mistake=mistake)
-            image = render(cell_scene, cell_size, vectors=letters, term=term, supersample=supersample,
-                           background=background, legend=False, view=view, mistake=mistake)
+        top_offset = band(fig) if band is not None else 0
+        boxes, u = grid_layout(size, rows, cols, title=bool(title), row_labels=bool(row_titles),
+                               col_labels=bool(col_titles), top_offset=top_offset)
+        image_boxes = [b for row in boxes for b in row][:len(cells)]
+        if labels is not None:
+            # the labels first, then the renders in the room left below them
+            placed = cell_labels(fig, boxes, cols, labels, u, size)
+            strip = max(round(y1 - y) for (_, _, _, y1), (_, y, _, _) in zip(placed, image_boxes)) + round(0.2 * u)
+            image_boxes = [(x, y + strip, w, h - strip) for x, y, w, h in image_boxes]
+            if min(b[3] for b in image_boxes) < 8:
+                raise FigureError(f"size: {size[0]}x{size[1]} is too small for the labels and the renders")
+        images = _render_cells(cells, image_boxes, letters, supersample, background, progress)
+        if labels is not None:
+            background, images = _readable(cells, image_boxes, letters, supersample, background, images)
+            for box in image_boxes:
+                fill(fig, (box[0], box[1] - strip, box[2], box[3] + strip), size, background)
+        for image, box in zip(images, image_boxes):
             place(fig, image, box, size)
-            if progress:
-                progress(i + 1, total, label)
     except BaseException:
         import matplotlib.pyplot as plt
 
         plt.close(fig)
         raise
-    finally:
-        if view is not None:
-            view.close()
     grid_titles(fig, boxes, size, u, title=title, top_offset=top_offset, row_titles=row_titles,
                 col_titles=col_titles)
     return fig, boxes, u
+
+
+#: the light background a panel falls back to when the dark one would hide its subject
+PAPER = (0.92, 0.92, 0.92)
+
+
+def _render_cells(cells, boxes, letters, supersample, background, progress):
+    """One image per cell at its box's size, from one reused view."""
+    view = None
+    images = []
+    try:
+        for i, ((cell_scene, term, label, mistake), box) in enumerate(zip(cells, boxes)):
+            cell_size = (box[2], box[3])
+            if view is None:
+                ss = max(1, int(supersample))
+                view = SceneView(cell_scene, size=(cell_size[0] * ss, cell_size[1] * ss), vectors=letters,
+                                 term=term, background=background, vtk_text=False, mistake=mistake,
+                                 markers=bool(parse_vectors(letters)))
+            images.append(render(cell_scene, cell_size, vectors=letters, term=term, supersample=supersample,
+                                 background=background, legend=False, view=view, mistake=mistake))
+            if progress:
+                progress(i + 1, len(cells), label)
+    finally:
+        if view is not None:
+            view.close()
+    return images
+
+
+def _readable(cells, boxes, letters, supersample, background, images):
+    """``(background, images)``: the renders again on :data:`PAPER` when that reads better.
+
+    The worst panel decides: its subject's contrast with the background
+    (:func:`~phonglab.render.layout.subject_contrast`) must reach
+    :data:`~phonglab.render.layout.MIN_CONTRAST`; if it does not and the
+    light background gives the worst panel more contrast, every panel is
+    rendered on the light one.
+    """
+    worst = min(subject_contrast(image, background) for image in images)
+    if worst >= MIN_CONTRAST or tuple(background) == PAPER:
+        return background, images
+    paper = _render_cells(cells, boxes, letters, supersample, PAPER, None)
+    if min(subject_contrast(image, PAPER) for image in paper) > worst:
+        return PAPER, paper
+    return background, images
 
 
 def _terms_figure(scene, size, letters, supersample, background, progress, mistake=None):
@@ -327,17 +387,18 @@ def _terms_figure(scene, size, letters, supersample, background, progress, mista
         title = shading.get_mistake(mistake).title
         band = mistake_banner(mistake, scene.interpolation, size,
                               f"Common mistake: {title} — these pictures are deliberately wrong")
-    fig, boxes, u = _grid_figure(scene, cells, rows, cols, size, letters, supersample, background, progress,
-                                 band=band)
     labels = []
-    for i, (term, name, formula) in enumerate(terms):
+    for term, name, formula in terms:
         if term in wrong:
-            # a panel the mistake changes: red frame, the wrong formula in a red label
-            frame(fig, boxes[i // cols][i % cols], size, u, WRONG_COLOR)
+            # a panel the mistake changes: the wrong formula in a red label (and a red frame below)
             labels.append((f"{name} (wrong)\n{wrong[term]}", WRONG_LABEL_BOX))
         else:
             labels.append((f"{name}\n{formula}", LABEL_BOX))
-    cell_labels(fig, boxes, cols, labels, u, size)
+    fig, boxes, u = _grid_figure(scene, cells, rows, cols, size, letters, supersample, background, progress,
+                                 band=band, labels=labels)
+    for i, (term, _, _) in enumerate(terms):
+        if term in wrong:
+            frame(fig, boxes[i // cols][i % cols], size, u, WRONG_COLOR)
     return fig
 
 

@@ -8,6 +8,8 @@ pixels tall.
 
 from __future__ import annotations
 
+import numpy as np
+
 from phonglab.render.errors import FigureError
 from phonglab.render.text import fit_width
 
@@ -93,11 +95,13 @@ def grid_titles(fig, boxes, size, u, *, title="", top_offset: int = 0, row_title
 def cell_labels(fig, boxes, cols, labels, u, size):
     """A label inside each cell's top edge, in a rounded box, shrunk to fit the cell's width.
 
-    ``labels`` holds ``(text, box colour)`` per cell, row-major.
+    ``labels`` holds ``(text, box colour)`` per cell, row-major. Returns each
+    label's pixel box ``(x0, y0_from_top, x1, y1_from_top)``, its rounded box included.
     """
     fs = min(u * 0.72, boxes[0][0][2] / 13 * 0.72)
     renderer = fig.canvas.get_renderer()
     W, H = size
+    placed = []
     for i, (text, facecolor) in enumerate(labels):
         r, c = divmod(i, cols)
         x, y, w, _ = boxes[r][c]
@@ -106,3 +110,60 @@ def cell_labels(fig, boxes, cols, labels, u, size):
                          bbox=dict(boxstyle="round,pad=0.3", facecolor=facecolor, edgecolor="none"))
         # the label and its box's padding (0.3 em a side) stay inside the cell, clear of a frame
         fit_width(label, renderer, w - 0.6 * fs / 0.72 - 0.6 * u)
+        extent = label.get_window_extent(renderer)
+        pad = 0.3 * label.get_fontsize() * 100 / 72  # the rounded box's padding, 0.3 em
+        placed.append((extent.x0 - pad, H - extent.y1 - pad, extent.x1 + pad, H - extent.y0 + pad))
+    return placed
+
+
+def fill(fig, box, size, color):
+    """Paint a pixel box (top-left origin) with ``color``, under everything drawn on it."""
+    from matplotlib.patches import Rectangle
+
+    x, y, w, h = box
+    W, H = size
+    fig.add_artist(Rectangle((x / W, 1 - (y + h) / H), w / W, h / H, transform=fig.transFigure,
+                             facecolor=color, edgecolor="none", zorder=-1))
+
+
+# ---------------------------------------------------------------------------
+# contrast: a panel must read on a projector
+
+#: the least contrast (WCAG style, 1 to 21) between a panel's subject and its background
+MIN_CONTRAST = 3.0
+
+
+def relative_luminance(rgb) -> np.ndarray:
+    """WCAG relative luminance of sRGB colours (``(..., 3)`` in [0, 1]): 0 for black, 1 for white.
+
+    Notes
+    -----
+    Each channel is decoded from sRGB to linear light
+    (:math:`c/12.92` below 0.04045, else :math:`((c + 0.055)/1.055)^{2.4}`), then
+    :math:`L = 0.2126 R + 0.7152 G + 0.0722 B`.
+    """
+    c = np.asarray(rgb, dtype=float)
+    linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    return linear @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def contrast_ratio(l1, l2) -> float:
+    """WCAG contrast :math:`(L_1 + 0.05) / (L_2 + 0.05)` of two luminances, lighter over darker (1 to 21)."""
+    hi, lo = max(float(l1), float(l2)), min(float(l1), float(l2))
+    return (hi + 0.05) / (lo + 0.05)
+
+
+def subject_contrast(image, background) -> float:
+    """Contrast between what a render shows and its background colour.
+
+    ``image`` is a (h, w, 3) uint8 render, ``background`` its background in
+    [0, 1]. The subject is every pixel more than 6/255 away from the
+    background in some channel; its luminance is the mean of theirs. An
+    image with no subject has nothing to lose: ``inf``.
+    """
+    pixels = np.asarray(image, dtype=float) / 255.0
+    bg = np.asarray(background, dtype=float)
+    subject = np.abs(pixels - bg).max(axis=-1) > 6 / 255
+    if not subject.any():
+        return float("inf")
+    return contrast_ratio(relative_luminance(pixels[subject]).mean(), relative_luminance(bg))

@@ -256,6 +256,8 @@ def _half_polar(fig, cell, neighbour, fs, title: str):
     polar.set_thetamin(-90)
     polar.set_thetamax(90)
     polar.tick_params(labelsize=fs * 0.8)
+    # the angle labels stand off the rim, so "−90°" and "90°" keep clear of the radius labels under the base
+    polar.tick_params(axis="x", pad=fs * 1.2)  # points: more than a label height
     return polar
 
 

@@ -17,6 +17,10 @@ from phonglab.render.errors import FigureError
 from phonglab.render.layout import canvas
 
 
+#: matplotlib settings that keep a figure's words as text in SVG and PDF files
+TEXT_AS_TEXT = {"svg.fonttype": "none", "pdf.fonttype": 42}
+
+
 def save_png(image: np.ndarray, path) -> None:
     """Write an RGB image as PNG, whole or not at all (temporary file, then rename).
 
@@ -54,9 +58,15 @@ def save_image(image: np.ndarray, path: Path, ext: str) -> None:
 
 def save_figure(fig, path: Path, ext: str) -> None:
     """Save a matplotlib figure in the format of ``ext`` (``".png"``, ``".svg"``, ``".pdf"``), atomically, and close it."""
+    import matplotlib
     import matplotlib.pyplot as plt
 
+    def write(tmp):
+        # text stays text (editable on a slide): SVG <text> elements, TrueType fonts embedded in PDF
+        with matplotlib.rc_context(TEXT_AS_TEXT):
+            fig.savefig(tmp, format=ext[1:], dpi=100, facecolor=fig.get_facecolor())
+
     try:
-        write_output(path, lambda tmp: fig.savefig(tmp, format=ext[1:], dpi=100, facecolor=fig.get_facecolor()))
+        write_output(path, write)
     finally:
         plt.close(fig)

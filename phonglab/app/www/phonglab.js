@@ -144,6 +144,43 @@ window.phonglab = {
       },
       template: "<div style='display:none'></div>",
     });
+    // <phonglab-address :query="url_query"> writes the server's query of the view into
+    // the address bar (history.replaceState) and, once, sends the query the page was
+    // opened with to the server (url_request), which checks it and opens that lesson.
+    app.component("phonglab-address", {
+      props: { query: { type: String, default: "" } },
+      mounted() {
+        const asked = window.location.search;
+        if (asked && window.trame && window.trame.state) window.trame.state.set("url_request", asked);
+        else if (this.query) window.history.replaceState(null, "", window.location.pathname + this.query);
+      },
+      watch: {
+        query(value) {
+          if (value && value !== window.location.search) {
+            window.history.replaceState(null, "", window.location.pathname + value + window.location.hash);
+          }
+        },
+      },
+      template: "<div style='display:none'></div>",
+    });
+    // <phonglab-download :file="..."> saves each new {name, url, serial} the server
+    // sends as a download in this browser (an <a download> clicked once).
+    app.component("phonglab-download", {
+      props: { file: { type: Object, default: null } },
+      watch: {
+        file(value) {
+          if (!value || !value.url) return;
+          const link = document.createElement("a");
+          link.href = value.url;
+          link.download = value.name || "phonglab.png";
+          link.style.display = "none";
+          document.body.appendChild(link);
+          link.click();
+          link.remove();
+        },
+      },
+      template: "<div style='display:none'></div>",
+    });
   },
 };
 
@@ -217,4 +254,44 @@ window.phonglab = {
     if (event.target.classList && event.target.classList.contains("math-block")) edges(event.target);
   }, true);
   window.phonglabFitMath = fitAll;
+})();
+
+// After a server restart the page comes back by itself: when the connection to
+// the server closes, a "Reconnecting…" banner shows and the page asks the server
+// every second; once it answers, the page reloads and its address (the lesson)
+// brings back the same view.
+(function () {
+  let leaving = false;
+  let waiting = false;
+  window.addEventListener("beforeunload", () => { leaving = true; });
+
+  function banner() {
+    if (document.querySelector(".phonglab-reconnecting")) return;
+    const note = document.createElement("div");
+    note.className = "phonglab-reconnecting";
+    note.setAttribute("role", "status");
+    note.textContent = "Connection to the server lost. Reconnecting…";
+    document.body.appendChild(note);
+  }
+
+  function poll() {
+    fetch(window.location.pathname, { cache: "no-store" })
+      .then((answer) => { if (answer.ok) window.location.reload(); else setTimeout(poll, 1000); })
+      .catch(() => setTimeout(poll, 1000));
+  }
+
+  function lost() {
+    if (leaving || waiting) return;
+    waiting = true;
+    banner();
+    setTimeout(poll, 1000);
+  }
+
+  // trame's client made its connection before this script loaded: subscribe to its closing
+  function subscribe() {
+    const client = window.trame && window.trame.client;
+    if (client && typeof client.onConnectionClose === "function") client.onConnectionClose(lost);
+    else setTimeout(subscribe, 500);
+  }
+  subscribe();
 })();
