@@ -15,7 +15,7 @@ import os
 from pathlib import Path
 
 from phonglab.render.errors import FigureError
-from phonglab.scene import Lesson, Scene, load, parse_path, parse_setting, parse_value
+from phonglab.scene import Lesson, Scene, SceneError, load, parse_path, parse_setting, parse_value
 from phonglab.teaching import MISTAKES
 
 #: output formats, by file extension
@@ -118,7 +118,10 @@ def parse_sweep(text: str) -> tuple[str, list]:
     pieces = split_values(raw)
     if not raw.strip() or any(not p for p in pieces):
         raise FigureError(f'sweep: {path}: needs comma-separated values, e.g. {path}=1,2,3, got "{raw}"')
-    return path, [parse_value(p) for p in pieces]
+    try:
+        return path, [parse_value(p) for p in pieces]
+    except SceneError as exc:
+        raise exc.located(field=path) from None
 
 
 def resolve_source(scene_or_path):

@@ -147,3 +147,5 @@ MAX_AREA_SAMPLE_POINTS = 50_000_000
 MAX_SCENE_FILE_BYTES = 1024 * 1024
 #: deepest nesting of [ ] and { } in a scene file, lesson front matter or --set value
 MAX_NESTING = 16
+#: longest value text given on the command line (--set, --sweep), in characters
+MAX_VALUE_CHARS = 10_000
