@@ -20,6 +20,7 @@ and :data:`~phonglab.scene.schema.MAX_MESH_TRIANGLES`.
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 import struct
@@ -128,5 +129,18 @@ def check_mesh_size(path) -> None:
 
 
 def mesh_vertices(path) -> int | None:
-    """The vertex count a mesh file announces (None when its format does not say)."""
+    """The vertex count a mesh file announces (None when its format does not say).
+
+    Remembered per file version (path, size, modification time): the page
+    asks on every edit of a scene with a Monte Carlo area light.
+    """
+    try:
+        stat = os.stat(path)
+    except OSError:
+        return None
+    return _cached_vertices(os.fspath(path), stat.st_size, stat.st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=32)
+def _cached_vertices(path: str, size: int, stamp: int) -> int | None:
     return mesh_counts(path)[0]
