@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 
 from phonglab.core.model import InvalidValue, _vec3
 from phonglab.scene.errors import SceneError, SceneErrors, did_you_mean
@@ -187,5 +188,27 @@ def check_nesting(text: str, *, field=None, file=None) -> None:
                          field=field, file=file)
 
 
+_MARKDOWN_LEVEL = re.compile(r"[ \t]*(?:[-*+>]|\d{1,9}[.)])(?:[ \t]+|$)")
+
+
+def markdown_depth(text: str) -> tuple[int, int]:
+    """The deepest nesting of list items and quotes on one Markdown line, and that line (1-based).
+
+    Each ``-``, ``*``, ``+``, ``>`` or ``1.`` marker at the start of a line,
+    one after the other, is a level (``- - - x`` is three deep).
+    """
+    deepest, where = 0, 0
+    for number, line in enumerate(text.splitlines(), 1):
+        depth, pos = 0, 0
+        while True:
+            match = _MARKDOWN_LEVEL.match(line, pos)
+            if not match or match.end() == pos:
+                break
+            depth, pos = depth + 1, match.end()
+        if depth > deepest:
+            deepest, where = depth, number
+    return deepest, where
+
+
 __all__ = ["check_number", "check_int", "check_vector", "check_choice", "check_bool", "check_text", "check_shape",
-           "collect", "setter", "nesting_depth", "check_nesting"]
+           "collect", "setter", "nesting_depth", "check_nesting", "markdown_depth"]
