@@ -4,8 +4,8 @@ The fields of a scene are each checked where they are read; what is
 checked here needs the scene's parts together, or bounds a field for the
 sake of the work or the arithmetic downstream:
 
-* every position, direction, eye, focal point, up vector and probe
-  coordinate is at most :data:`~phonglab.scene.schema.MAX_COORDINATE` in
+* every position, direction and probe coordinate (the camera's eye,
+  focal point and up vector: in :class:`~phonglab.scene.parts.Camera`) is at most :data:`~phonglab.scene.schema.MAX_COORDINATE` in
   size: past it, a squared distance overflows float32 and labels are drawn
   at NaN;
 * at most :data:`~phonglab.scene.schema.MAX_LIGHTS` lights;
@@ -113,10 +113,6 @@ def check_limits(parts: dict, data: dict) -> list[SceneError]:
         table = tables[i] if i < len(tables) else None
         for path, vector in _light_vectors(light, table, f"lights[{i}]"):
             run(check_coordinates, path, vector)
-    camera = parts.get("camera")
-    if camera is not None:
-        for key in ("eye", "focal_point", "up"):
-            run(check_coordinates, f"camera.{key}", getattr(camera, key))
     area = parts.get("area_light")
     if area is not None:
         for key in ("position", "edge_u", "edge_v"):
