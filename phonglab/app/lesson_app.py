@@ -38,7 +38,7 @@ from trame.app import TrameApp
 
 from phonglab.app import controls as ctl
 from phonglab.app.control import ControlError, finite3, format_value
-from phonglab.app import eye, page, sync, text
+from phonglab.app import eye, owned, page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app.check_question import CheckPanel
 from phonglab.app.student_code import StudentCodePanel
@@ -72,7 +72,7 @@ def _guarded(method):
             return method(self, *args, **kwargs)
         except Exception as exc:
             log.exception("%s failed", method.__name__)
-            self.notify("error", f"Could not {method.__name__.replace('_', ' ')}: {type(exc).__name__}: {exc}")
+            self.notify("error", f"Could not {method.__name__.replace('_', ' ')}: {owned.reason(exc)}")
             return None
 
     return run
@@ -120,6 +120,9 @@ class LessonApp(TrameApp):
         self.student_code = StudentCodePanel(self.state, allow_student_code)
         self.state.change("view_size")(self._on_view_size)
         self.state.change(address.REQUEST_KEY)(self._on_address)
+        # the lesson's mistake is the server's: a browser's write is undone
+        self._mistake = None
+        self.state.change("mistake")(owned.keep_server_value(self.state, "mistake", lambda: self._mistake))
         # cheaper full synchronisations (after trame-vtk has set up this session)
         sync.install()
         self.ctrl.on_server_ready.add(lambda **_: sync.install())
@@ -156,7 +159,7 @@ class LessonApp(TrameApp):
     def notify(self, kind: str, message: str) -> None:
         """Show a message above the controls (kind: "error", "success", "info")."""
         self._notice_serial += 1
-        self.state.notice = {"kind": kind, "text": message, "serial": self._notice_serial}
+        self.state.notice = {"kind": kind, "text": owned.short(message), "serial": self._notice_serial}
 
     # ------------------------------------------------------------------
     # lessons
@@ -187,6 +190,7 @@ class LessonApp(TrameApp):
             s.lesson_goal_html = ""
             s.experiments = []
             s.question_html = s.answer_html = ""
+            self._mistake = None
             s.mistake, s.mistake_note = None, ""
             s.has_view = self.view is not None
             if self._panels_handle is not None:  # a refresh for the previous lesson's scene
@@ -206,8 +210,8 @@ class LessonApp(TrameApp):
         ] if lesson else []
         s.question_html = text.inline(lesson.question) if lesson and lesson.question else ""
         s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
-        s.mistake = self._mistake_info()
-        extra = {"view__mistake": ctl.MISTAKE_SWITCH} if s.mistake and s.mistake.get("available") else {}
+        self._mistake = s.mistake = self._mistake_info()
+        extra = {"view__mistake": ctl.MISTAKE_SWITCH} if self._mistake and self._mistake.get("available") else {}
         self.controls = ctl.ControlSet(ctl.Frame.of_camera(entry.scene.camera),
                                        lesson.controls if lesson else (), extra)
         self.options = {"term": "color"}
@@ -285,7 +289,7 @@ class LessonApp(TrameApp):
                 self.state.flush()
         except Exception as exc:
             log.exception("refreshing the panels")
-            self.notify("error", f"Could not refresh the panels: {type(exc).__name__}: {exc}")
+            self.notify("error", f"Could not refresh the panels: {owned.reason(exc)}")
             self.state.flush()
         finally:
             spent, self._view_ms = self._view_ms, 0.0
@@ -298,7 +302,7 @@ class LessonApp(TrameApp):
         mistake; where the mistake cannot show in the current interpolation
         mode, the page says so (``mistake_note``).
         """
-        info = self.state.mistake
+        info = self._mistake  # never the state: a browser may have written it
         wanted = bool(info and info.get("available") and self.options.get("mistake"))
         self.view.set_mistake(info["name"] if wanted else None)
         self.state.mistake_note = self.view.mistake_note
@@ -407,13 +411,13 @@ class LessonApp(TrameApp):
             colours_only = _changed(self.scene, scene) <= COLOUR_ONLY_FIELDS and scene.interpolation != "pixel"
             self.options = options
             self._show_scene(scene, colours_only=colours_only, defer_panels=True)
-            if self.state.notice and self.state.notice.get("kind") == "error":
+            if isinstance(self.state.notice, dict) and self.state.notice.get("kind") == "error":
                 self.state.notice = None
             self.state.flush()
             self._view_ms += (time.perf_counter() - start) * 1000.0
         except Exception as exc:  # the server stays up whatever arrives
             log.exception("control %s", key)
-            self.notify("error", f"Could not apply {key}: {type(exc).__name__}: {exc}")
+            self.notify("error", f"Could not apply {key}: {owned.reason(exc)}")
         finally:
             self._busy = False
 
@@ -444,7 +448,7 @@ class LessonApp(TrameApp):
             self.notify("error", f"Refused a click: {exc}")
         except Exception as exc:
             log.exception("pick")
-            self.notify("error", f"Could not pick: {type(exc).__name__}: {exc}")
+            self.notify("error", f"Could not pick: {owned.reason(exc)}")
 
     @_guarded
     def on_camera(self, camera=None, *_, **__) -> None:

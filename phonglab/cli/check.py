@@ -40,6 +40,25 @@ def expand(names) -> list[Path]:
     return files
 
 
+def _read_mesh(loaded, path) -> None:
+    """Read a scene's mesh file as export would, so a file that passes check also exports.
+
+    Parametric shapes are skipped; a mesh file was already sized from its
+    header when the scene loaded, so reading it is bounded.
+    """
+    scene = getattr(loaded, "scene", loaded)
+    geometry = getattr(scene, "geometry", None)
+    if geometry is None or geometry.kind not in ("file", "pyvista"):
+        return
+    from phonglab.render.mesh import build_mesh  # VTK: only when a scene reads a mesh
+    from phonglab.scene import SceneError
+
+    try:
+        build_mesh(geometry)
+    except SceneError as exc:
+        raise exc.located(file=str(path)) from None
+
+
 def run(args) -> int:
     from phonglab.scene import SceneError, load
 
@@ -47,7 +66,7 @@ def run(args) -> int:
     files = expand(args.files)
     for path in files:
         try:
-            load(path)
+            _read_mesh(load(path), path)
         except SceneError as exc:
             errors = getattr(exc, "errors", [exc])
             bad_files += 1

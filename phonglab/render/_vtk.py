@@ -38,6 +38,22 @@ def make_render_window(size: tuple[int, int], *, offscreen: bool = True) -> vtk.
     return window
 
 
+@contextlib.contextmanager
+def quiet_vtk():
+    """Keep VTK's own warnings and error dumps off stderr inside the ``with`` block.
+
+    Used around mesh readers: a malformed file makes VTK print a multi-line
+    report before the reader fails; the caller's one-line SceneError is the
+    message the user should see.
+    """
+    was = vtk.vtkObject.GetGlobalWarningDisplay()
+    vtk.vtkObject.GlobalWarningDisplayOff()
+    try:
+        yield
+    finally:
+        vtk.vtkObject.SetGlobalWarningDisplay(was)
+
+
 def read_rgb(window: vtk.vtkRenderWindow) -> np.ndarray:
     """The window's colour buffer as a (height, width, 3) uint8 array, top row first."""
     width, height = window.GetSize()

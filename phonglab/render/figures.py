@@ -23,6 +23,7 @@ import sys
 import numpy as np
 
 from phonglab.render import shading
+from phonglab.render._files import clean_stale_temporaries
 from phonglab.render.annotate import downsample
 from phonglab.render.captions import (
     LABEL_BOX,
@@ -56,6 +57,7 @@ from phonglab.render.options import (
     PLOTS,
     apply_settings,
     check_output,
+    check_render_work,
     normalize_sweeps,
     parse_size,
     resolve_mistake,
@@ -214,7 +216,10 @@ def figure(
     """
     # check everything before the first render
     path, ext = check_output(out_path)
+    clean_stale_temporaries(path.resolve().parent)  # what a killed export left behind
     size = parse_size(size)
+    if plot is None:
+        supersample = check_render_work(size, supersample)
     if plot is not None and plot not in PLOTS:
         raise FigureError(f'plot: must be one of {", ".join(PLOTS)}, got "{plot}"')
     if plot is not None and (terms or sweep):
@@ -232,6 +237,10 @@ def figure(
     mistake = resolve_mistake(mistake, lesson, source)
     scene = apply_settings(base, settings)
     sweeps = normalize_sweeps(sweep, scene)
+    if sweeps:
+        # the grid must have room for its cells before n × m scenes are built
+        rows, cols = (len(sweeps[0][1]), len(sweeps[1][1])) if len(sweeps) == 2 else (1, len(sweeps[0][1]))
+        grid_layout(size, rows, cols, title=bool(scene.title), row_labels=len(sweeps) == 2, col_labels=True)
     grid = bool(terms or sweeps or compare)
     letters = (None if grid else "NLRVH") if vectors == AUTO else vectors
     try:

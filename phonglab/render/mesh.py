@@ -18,8 +18,11 @@ import warnings
 import numpy as np
 import pyvista as pv
 import vtk
+from vtkmodules.util.numpy_support import vtk_to_numpy
 
+from phonglab.render._vtk import quiet_vtk
 from phonglab.scene import SceneError
+from phonglab.scene.meshsize import check_mesh_size
 
 #: size of the parametric shapes (world units)
 SPHERE_RADIUS = 1.0
@@ -131,22 +134,56 @@ def _read_surface(geometry) -> pv.PolyData:
         field, value = "geometry.name", geometry.name
     else:
         path, field, value = geometry.path, "geometry.path", geometry.path
+        try:
+            check_mesh_size(path)  # again: the file may have changed since the scene was loaded
+        except SceneError as exc:
+            raise exc.located(field="geometry") from None
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), quiet_vtk():
             warnings.simplefilter("ignore")  # the reader's own complaint; ours follows
             data = pv.read(path)
     except Exception as exc:  # readers raise many kinds; the message names the file
-        raise SceneError(f"cannot be read as a mesh ({exc})", field=field, value=value) from None
+        reason = (str(exc).strip().splitlines() or [type(exc).__name__])[0][:200]
+        raise SceneError(f"cannot be read as a mesh ({reason})", field=field, value=value) from None
     if isinstance(data, pv.MultiBlock):
         data = data.combine()
     if not isinstance(data, pv.PolyData):
         data = data.extract_surface(algorithm="dataset_surface")
+    return _checked_surface(data, field, value)
+
+
+def _checked_surface(data, field: str, value) -> pv.PolyData:
+    """The polygons of ``data`` as a clean triangle mesh, its points and faces checked.
+
+    Refused: a point that is not finite, a face naming a point the file does
+    not have, and a mesh with no triangle of non-zero size left after
+    merging duplicate points.
+    """
+    # every corner of every polygon and strip must name a point of the file, before any filter runs
+    for cells in (data.GetPolys(), data.GetStrips()):
+        ids = vtk_to_numpy(cells.GetConnectivityArray()) if cells is not None else np.zeros(0)
+        if ids.size and (ids.min() < 0 or ids.max() >= data.n_points):
+            raise SceneError(f"has a face naming a vertex it does not have (it has {data.n_points} vertices)",
+                             field=field, value=value)
     # keep the polygons only (strips become triangles): lines and vertices are not shaded
     data = data.triangulate()
-    data = pv.PolyData(data.points, faces=data.faces) if data.n_faces else pv.PolyData()
+    points = np.asarray(data.points)
+    if points.size and not np.isfinite(points).all():
+        bad = int(np.flatnonzero(~np.isfinite(points).all(axis=1))[0])
+        raise SceneError(f"has a vertex that is not a finite number (vertex {bad}: {points[bad].tolist()})",
+                         field=field, value=value)
+    faces = np.asarray(data.faces) if data.n_faces else np.zeros(0, dtype=int)
+    data = pv.PolyData(data.points, faces=faces) if faces.size else pv.PolyData()
     if data.n_cells == 0:
         raise SceneError("holds no surface (no polygons) to shade", field=field, value=value)
-    return data.clean()
+    with quiet_vtk():
+        data = data.clean()
+    # merging duplicate points turns a zero-size triangle into a line or a point: keep the polygons
+    data = data.triangulate()
+    polys = np.asarray(data.faces) if data.n_faces else np.zeros(0, dtype=int)
+    if polys.size == 0:
+        raise SceneError("holds no surface to shade: every triangle has zero area", field=field, value=value)
+    return pv.PolyData(data.points, faces=polys)
 
 
 def _fit_unit_sphere(mesh: pv.PolyData) -> pv.PolyData:

@@ -11,11 +11,12 @@ the option, the value and what is allowed.
 from __future__ import annotations
 
 import difflib
+import numbers
 import os
 from pathlib import Path
 
 from phonglab.render.errors import FigureError
-from phonglab.scene import Lesson, Scene, load, parse_path, parse_setting, parse_value
+from phonglab.scene import Lesson, Scene, SceneError, load, parse_path, parse_setting, parse_value
 from phonglab.teaching import MISTAKES
 
 #: output formats, by file extension
@@ -28,6 +29,13 @@ DEFAULT_SIZE = (1200, 900)
 MIN_SIZE = 16
 #: largest width or height accepted, in pixels
 MAX_SIZE = 8192
+#: most pixels rendered for one figure: width × height × supersample² (the default
+#: 1200x900 at supersample 2 renders 4,320,000; per-pixel shading needs about 200 bytes a pixel)
+MAX_RENDER_PIXELS = 2**23
+#: supersample factors accepted
+SUPERSAMPLE_RANGE = (1, 4)
+#: most cells in a sweep's grid (rows × columns)
+MAX_SWEEP_CELLS = 64
 #: the ``vectors`` default: N, L, R, V, H on a single render, none in grids
 AUTO = "auto"
 #: ``mistake=`` value that means "the lesson's own mistake"
@@ -78,9 +86,45 @@ def parse_size(text) -> tuple[int, int]:
             size = (int(width), int(height))
         except (TypeError, ValueError):
             raise FigureError(f"size: must be (width, height) in pixels, got {text!r}") from None
-    if not all(MIN_SIZE <= s <= MAX_SIZE for s in size):
+    if not all(isinstance(s, int) and MIN_SIZE <= s <= MAX_SIZE for s in size):
         raise FigureError(f"size: width and height must be from {MIN_SIZE} to {MAX_SIZE} pixels, got {size[0]}x{size[1]}")
     return size
+
+
+def check_render_work(size, supersample) -> int:
+    """The supersample factor, after checking it and the pixels it makes render.
+
+    Raises
+    ------
+    FigureError
+        A factor outside :data:`SUPERSAMPLE_RANGE`, or width × height ×
+        supersample² past :data:`MAX_RENDER_PIXELS`, naming the limit.
+    """
+    low, high = SUPERSAMPLE_RANGE
+    if isinstance(supersample, bool) or not isinstance(supersample, numbers.Integral) or not low <= supersample <= high:
+        raise FigureError(f"supersample: must be a whole number from {low} to {high}, got {supersample!r}")
+    pixels = size[0] * size[1] * supersample**2
+    if pixels > MAX_RENDER_PIXELS:
+        raise FigureError(
+            f"size: {size[0]}x{size[1]} at supersample {supersample} renders {pixels:,} pixels, at most "
+            f"{MAX_RENDER_PIXELS:,} allowed (width × height × supersample²); use a smaller size or supersample"
+        )
+    return int(supersample)
+
+
+def check_sweep_cells(counts) -> None:
+    """Refuse sweeps whose grid (the product of their value counts) passes :data:`MAX_SWEEP_CELLS`.
+
+    Raises
+    ------
+    FigureError
+    """
+    cells = 1
+    for n in counts:
+        cells *= n
+    if cells > MAX_SWEEP_CELLS:
+        shown = " x ".join(str(n) for n in counts)
+        raise FigureError(f"sweep: a {shown} grid has {cells:,} cells, at most {MAX_SWEEP_CELLS} allowed")
 
 
 def split_values(text: str) -> list[str]:
@@ -118,7 +162,10 @@ def parse_sweep(text: str) -> tuple[str, list]:
     pieces = split_values(raw)
     if not raw.strip() or any(not p for p in pieces):
         raise FigureError(f'sweep: {path}: needs comma-separated values, e.g. {path}=1,2,3, got "{raw}"')
-    return path, [parse_value(p) for p in pieces]
+    try:
+        return path, [parse_value(p) for p in pieces]
+    except SceneError as exc:
+        raise exc.located(field=path) from None
 
 
 def resolve_source(scene_or_path):
@@ -223,14 +270,17 @@ def normalize_sweeps(sweep, scene) -> list[tuple[str, list]]:
         sweep = [sweep]
     elif isinstance(sweep, tuple) and len(sweep) == 2 and isinstance(sweep[0], str) and not isinstance(sweep[1], str):
         sweep = [sweep]  # a single (path, values) pair
-    out = []
+    parsed = []
     for item in sweep:
         path, values = parse_sweep(item) if isinstance(item, str) else (item[0], list(item[1]))
         if not values:
             raise FigureError(f"sweep: {path}: needs at least one value")
+        parsed.append((path, values))
+    if len(parsed) > 2:
+        raise FigureError(f"sweep: at most two sweeps (rows, columns), got {len(parsed)}")
+    # the grid's size before any value is tried on the scene
+    check_sweep_cells([len(values) for _, values in parsed])
+    for path, values in parsed:
         for value in values:
             scene.replace(path, value)  # raises SceneError naming the path and value
-        out.append((path, values))
-    if len(out) > 2:
-        raise FigureError(f"sweep: at most two sweeps (rows, columns), got {len(out)}")
-    return out
+    return parsed

@@ -7,7 +7,7 @@ for, and :func:`shade` runs the core on the scene's mesh points with that plan.
 
 The modules import one way, each only those listed before it::
 
-    errors, schema -> claims -> checks -> paths -> parts -> build -> fieldpath -> editing
+    errors, schema -> claims -> checks -> meshsize -> paths -> limits -> parts -> build -> check -> fieldpath -> editing
     -> model -> loader -> lessons -> planner
 
 (``toml_lines`` stands alone.) ``Scene.replace`` is a method of ``model.Scene``

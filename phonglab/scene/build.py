@@ -25,6 +25,7 @@ import dataclasses
 from phonglab import core
 from phonglab.scene.checks import check_bool, check_choice, check_number, check_shape, check_text, check_vector
 from phonglab.scene.errors import SceneError, SceneErrors, did_you_mean, join_path
+from phonglab.scene.limits import check_light_count, check_limits
 from phonglab.scene.parts import AreaLightSetup, Camera, Geometry
 from phonglab.scene.paths import find_mesh_file
 from phonglab.scene.schema import (
@@ -38,6 +39,7 @@ from phonglab.scene.schema import (
     LIGHT_CLASSES,
     LIGHT_KEYS,
     LIGHT_REQUIRED,
+    MAX_LIGHTS,
     MATERIAL_KEYS,
     MATERIAL_REQUIRED,
     MODELS,
@@ -337,6 +339,8 @@ def scene_parts(data: dict, problems: Problems, *, extra_keys=(), base_dir=None,
     raw_lights = data.get("lights", [])
     if not isinstance(raw_lights, list):
         problems.add(SceneError("must be a list of [[lights]] tables", field="lights", value=raw_lights))
+    elif len(raw_lights) > MAX_LIGHTS:  # refused before each is built
+        problems.run(check_light_count, len(raw_lights))
     else:
         for i, item in enumerate(raw_lights):
             lights.append(build_light(item, problems, f"lights[{i}]"))
@@ -347,4 +351,8 @@ def scene_parts(data: dict, problems: Problems, *, extra_keys=(), base_dir=None,
     for key, check in _OPTION_CHECKS.items():
         if key in data:
             parts[key] = problems.run(check, key, data[key])
+    if len(problems.errors) == start:
+        # limits that need the parts together, shared by files, edits and the page
+        for error in check_limits(parts, data):
+            problems.add(error)
     return parts if len(problems.errors) == start else None

@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 
 from phonglab.core.model import InvalidValue, _vec3
 from phonglab.scene.errors import SceneError, SceneErrors, did_you_mean
-from phonglab.scene.schema import SHAPE_RULES
+from phonglab.scene.schema import MAX_NESTING, SHAPE_RULES
 
 
 def _is_number(value) -> bool:
@@ -155,5 +156,59 @@ def check_shape(path, value, shape: str, rule: str | None = None):
     return tuple(value)
 
 
+def nesting_depth(text: str) -> int:
+    """The deepest nesting of ``[ ]`` and ``{ }`` in ``text``, counted in one cheap pass.
+
+    Brackets inside strings count too: an over-estimate only refuses text
+    that is far past any teaching scene's nesting.
+    """
+    depth = deepest = 0
+    for ch in text:
+        if ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}" and depth:
+            depth -= 1
+    return deepest
+
+
+def check_nesting(text: str, *, field=None, file=None) -> None:
+    """Refuse text nested deeper than :data:`MAX_NESTING` before a recursive parser sees it.
+
+    Raises
+    ------
+    SceneError
+        Naming the depth found and the limit (and the file or field).
+    """
+    if "[" not in text and "{" not in text:
+        return
+    depth = nesting_depth(text)
+    if depth > MAX_NESTING:
+        raise SceneError(f"nests lists or tables {depth} deep, at most {MAX_NESTING} allowed",
+                         field=field, file=file)
+
+
+_MARKDOWN_LEVEL = re.compile(r"[ \t]*(?:[-*+>]|\d{1,9}[.)])(?:[ \t]+|$)")
+
+
+def markdown_depth(text: str) -> tuple[int, int]:
+    """The deepest nesting of list items and quotes on one Markdown line, and that line (1-based).
+
+    Each ``-``, ``*``, ``+``, ``>`` or ``1.`` marker at the start of a line,
+    one after the other, is a level (``- - - x`` is three deep).
+    """
+    deepest, where = 0, 0
+    for number, line in enumerate(text.splitlines(), 1):
+        depth, pos = 0, 0
+        while True:
+            match = _MARKDOWN_LEVEL.match(line, pos)
+            if not match or match.end() == pos:
+                break
+            depth, pos = depth + 1, match.end()
+        if depth > deepest:
+            deepest, where = depth, number
+    return deepest, where
+
+
 __all__ = ["check_number", "check_int", "check_vector", "check_choice", "check_bool", "check_text", "check_shape",
-           "collect", "setter"]
+           "collect", "setter", "nesting_depth", "check_nesting", "markdown_depth"]

@@ -115,8 +115,54 @@ class SceneErrors(SceneError):
         return SceneErrors([e.located(file=file, line=line, field=field) for e in self.errors])
 
 
-def show_value(value: Any) -> str:
-    """Render a value as it would be written in TOML (``true``, ``"text"``, ``[1, 2]``)."""
+#: longest value shown in a message, in characters; longer ones are cut with "…"
+SHOWN_VALUE_CHARS = 80
+
+
+def show_value(value: Any, limit: int = SHOWN_VALUE_CHARS) -> str:
+    """Render a value as it would be written in TOML (``true``, ``"text"``, ``[1, 2]``).
+
+    At most ``limit`` characters: a longer rendering is cut and ends in
+    ``… (N characters)`` so that a huge input cannot flood a message. Lists
+    and tables are rendered item by item only as far as the limit needs.
+    """
+    text = _show(value, limit + 1)
+    if len(text) <= limit:
+        return text
+    total = _shown_length(value)
+    return text[:limit] + f"… ({total:,} characters)" if total else text[:limit] + "…"
+
+
+def _shown_length(value: Any) -> int | None:
+    """The length of the full rendering when cheap (strings), else None."""
+    return len(value) + 2 if isinstance(value, str) else None
+
+
+def _show(value: Any, budget: int, depth: int = 0) -> str:
+    """``show_value`` without the cut, stopping once ``budget`` characters are produced."""
+    if depth > 8 and isinstance(value, (list, tuple, dict)):
+        return "[…]" if not isinstance(value, dict) else "{…}"  # nesting past any scene value
+    if isinstance(value, str) and len(value) > budget:
+        value = value[:budget]
+    if isinstance(value, (list, tuple, dict)) or (hasattr(value, "tolist") and getattr(value, "ndim", 0)):
+        if hasattr(value, "tolist") and not isinstance(value, (list, tuple, dict)):
+            value = value.ravel()[:budget].tolist() if value.size > budget else value.tolist()
+        dict_items = isinstance(value, dict)
+        items = value.items() if dict_items else value
+        out, used = [], 0
+        for item in items:
+            piece = (f"{item[0]} = {_show(item[1], budget - used, depth + 1)}" if dict_items
+                     else _show(item, budget - used, depth + 1))
+            out.append(piece)
+            used += len(piece) + 2
+            if used > budget:
+                break
+        inner = ", ".join(out)
+        return "{" + inner + "}" if dict_items else "[" + inner + "]"
+    return _show_scalar(value)
+
+
+def _show_scalar(value: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if value is None:
@@ -125,12 +171,8 @@ def show_value(value: Any) -> str:
         return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
     if isinstance(value, float) and value.is_integer() and abs(value) < 1e16:
         return str(int(value)) if value != 0 or math.copysign(1, value) > 0 else "-0"
-    if isinstance(value, dict):
-        return "{" + ", ".join(f"{k} = {show_value(v)}" for k, v in value.items()) + "}"
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(show_value(v) for v in value) + "]"
-    if hasattr(value, "tolist"):  # NumPy scalars and arrays
-        return show_value(value.tolist())
+    if hasattr(value, "tolist"):  # NumPy scalars
+        return _show_scalar(value.tolist())
     return str(value)
 
 

@@ -15,12 +15,14 @@ from __future__ import annotations
 import re
 import tomllib
 
+from phonglab.scene.checks import check_nesting
 from phonglab.scene.errors import SceneError, did_you_mean
 from phonglab.scene.schema import (
     AREA_LIGHT_KEYS,
     CAMERA_KEYS,
     GEOMETRY_KEYS,
     HOMOGENEOUS_TYPES,
+    MAX_VALUE_CHARS,
     LIGHT_KEYS,
     MATERIAL_KEYS,
     SCENE_KEYS,
@@ -227,7 +229,18 @@ def field_value(scene, path: str):
 
 
 def parse_value(text: str):
-    """A value written as in TOML (``100``, ``[1, 2, 3]``, ``true``, ``"phong"``); bare words are strings."""
+    """A value written as in TOML (``100``, ``[1, 2, 3]``, ``true``, ``"phong"``); bare words are strings.
+
+    Raises
+    ------
+    SceneError
+        When the value is longer than :data:`~phonglab.scene.schema.MAX_VALUE_CHARS`
+        or nested deeper than :data:`~phonglab.scene.schema.MAX_NESTING`.
+    """
+    if len(text) > MAX_VALUE_CHARS:
+        raise SceneError(f"is too long: {len(text):,} characters, at most {MAX_VALUE_CHARS:,} allowed",
+                         value=text)
+    check_nesting(text)
     try:
         return tomllib.loads(f"value = {text}")["value"]
     except tomllib.TOMLDecodeError:
@@ -252,4 +265,7 @@ def parse_setting(text: str) -> tuple[str, object]:
     path, _, raw = text.partition("=")
     path = path.strip()
     parse_path(path)
-    return path, parse_value(raw.strip())
+    try:
+        return path, parse_value(raw.strip())
+    except SceneError as exc:
+        raise exc.located(field=path) from None

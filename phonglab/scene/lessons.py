@@ -18,13 +18,13 @@ from pathlib import Path
 
 from phonglab.scene.build import Problems, scene_parts
 from phonglab.scene.check import build_check
-from phonglab.scene.checks import check_choice, check_int, check_text
+from phonglab.scene.checks import check_choice, check_int, check_text, markdown_depth
 from phonglab.scene.editing import settings_problems
 from phonglab.scene.errors import SceneError, SceneErrors, join_path
 from phonglab.scene.fieldpath import check_path_shape, field_value
 from phonglab.scene.loader import display, lesson_files, load_scene, parse_toml, read_text
 from phonglab.scene.model import Experiment, Lesson, Scene
-from phonglab.scene.schema import CLAIM_KEYS, CLAIM_REQUIRED, EXPERIMENT_KEYS, LESSON_KEYS
+from phonglab.scene.schema import CLAIM_KEYS, CLAIM_REQUIRED, EXPERIMENT_KEYS, LESSON_KEYS, MAX_NESTING
 from phonglab.scene.claims import Claim, parse_check
 from phonglab.scene.toml_lines import KeyLines, render_key
 
@@ -128,6 +128,7 @@ def _read_lesson(path) -> _Reading:
         front, body, first = split_front_matter(text, shown)
         reading.title = title_from_body(body) or ""
         data = parse_toml(front, shown, first)
+        _check_markdown(body, shown, first + front.count("\n") + 2)
     except SceneErrors as exc:
         reading.errors = list(exc.errors)
         return reading
@@ -154,6 +155,9 @@ def _read_lesson(path) -> _Reading:
     texts = {}
     for key in ("goal", "question", "answer"):
         texts[key] = problems.run(check_text, key, data.get(key, "")) or ""
+        if markdown_depth(texts[key])[0] > MAX_NESTING:  # shown as Markdown too
+            problems.add(SceneError(f"nests lists or quotes past {MAX_NESTING} levels", field=key))
+            texts[key] = ""
     mistake = data.get("mistake")
     if mistake is not None:
         # imported here: only a lesson naming a mistake needs the teaching layer loaded
@@ -194,6 +198,14 @@ def _read_lesson(path) -> _Reading:
         check=check,
     )
     return reading
+
+
+def _check_markdown(body: str, shown: str, first_line: int) -> None:
+    """Refuse a lesson text whose lists or quotes nest past MAX_NESTING (the Markdown renderer recurses)."""
+    depth, line = markdown_depth(body)
+    if depth > MAX_NESTING:
+        raise SceneErrors([SceneError(f"nests lists or quotes {depth} deep, at most {MAX_NESTING} allowed",
+                                      file=shown, line=first_line + line - 1)])
 
 
 def load_lesson(path) -> Lesson:

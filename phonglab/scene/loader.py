@@ -17,8 +17,10 @@ import tomllib
 from pathlib import Path
 
 from phonglab.scene.build import Problems, scene_parts
+from phonglab.scene.checks import check_nesting
 from phonglab.scene.errors import SceneError, SceneErrors
 from phonglab.scene.model import Scene
+from phonglab.scene.schema import MAX_SCENE_FILE_BYTES
 from phonglab.scene.toml_lines import KeyLines
 
 
@@ -57,6 +59,10 @@ def display(path) -> str:
 def read_text(path, shown) -> str:
     """The file's UTF-8 text; a SceneErrors naming the file (``shown``) when it cannot be read."""
     try:
+        size = os.path.getsize(path) if Path(path).is_file() else 0
+        if size > MAX_SCENE_FILE_BYTES:
+            raise SceneErrors([SceneError(f"is too large: {size:,} bytes, at most {MAX_SCENE_FILE_BYTES:,} allowed",
+                                          file=shown)])
         return Path(path).read_text(encoding="utf-8")
     except FileNotFoundError:
         raise SceneErrors([SceneError("no such file", file=shown)]) from None
@@ -69,7 +75,15 @@ def read_text(path, shown) -> str:
 
 
 def parse_toml(text: str, shown: str, first_line: int = 1) -> dict:
-    """tomllib.loads, with a syntax error turned into a located SceneError."""
+    """tomllib.loads, with a syntax error turned into a located SceneError.
+
+    Text nested deeper than :data:`~phonglab.scene.schema.MAX_NESTING` is
+    refused first: tomllib recurses once per level.
+    """
+    try:
+        check_nesting(text, file=shown)
+    except SceneError as exc:
+        raise SceneErrors([exc]) from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

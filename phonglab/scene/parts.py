@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from phonglab import core
 from phonglab.scene.checks import check_bool, check_choice, check_int, check_number, check_vector, collect, setter
 from phonglab.scene.errors import SceneError
+from phonglab.scene.limits import check_coordinates
 from phonglab.scene.paths import check_geometry_source
 from phonglab.scene.schema import AREA_METHODS, AREA_SAMPLES_RANGE, GEOMETRY_KINDS, RESOLUTION_RANGE
 
@@ -96,6 +97,8 @@ class Camera:
                 setter(self, "infinite_viewer", lambda v: check_bool("infinite_viewer", v)),
             ]
         )
+        # within the coordinate bound first: past it the tests below overflow
+        collect([lambda key=key: check_coordinates(key, getattr(self, key)) for key in ("eye", "focal_point", "up")])
         d = [e - f for e, f in zip(self.eye, self.focal_point)]
         if not any(d):
             raise SceneError("must differ from camera.focal_point", field="eye", value=self.eye)

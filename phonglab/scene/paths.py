@@ -13,6 +13,7 @@ import os
 from pathlib import Path
 
 from phonglab.scene.errors import SceneError, did_you_mean
+from phonglab.scene.meshsize import check_mesh_size
 
 #: meshes that ship inside the pyvista package (``pyvista/examples/``), by name
 PYVISTA_MESHES = {
@@ -140,13 +141,20 @@ def find_mesh_file(kind: str, name, path, base_dir=None) -> str | None:
     the installed pyvista, a ``kind = "file"`` path must name an existing
     mesh file (see :func:`resolve_mesh_path`; the result is absolute).
 
+    A mesh file's header is read too (:func:`phonglab.scene.meshsize.check_mesh_size`):
+    a file past the size, vertex or triangle limits is refused here, before
+    any reader allocates what it announces.
+
     Raises
     ------
     SceneError
-        A shipped mesh missing from pyvista, a path that is not a mesh file.
+        A shipped mesh missing from pyvista, a path that is not a mesh file,
+        a mesh past the limits.
     """
     if kind == "pyvista":
         return str(pyvista_mesh_path(name))
     if kind == "file":
-        return resolve_mesh_path(path, base_dir)
+        found = resolve_mesh_path(path, base_dir)
+        check_mesh_size(found)
+        return found
     return None

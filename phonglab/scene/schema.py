@@ -183,3 +183,26 @@ CLAIM_FUNCTIONS = {
     "area_ratio": ((), "point-light approximation over the exact area-light irradiance, directly under the "
                        "panel's centre"),
 }
+
+
+# limits: sized for teaching scenes, checked before any expensive step
+
+#: largest mesh file read, in bytes (a 1M-triangle binary PLY is about 25 MB, ASCII about 60 MB)
+MAX_MESH_BYTES = 128 * 1024 * 1024
+#: most vertices a mesh file may hold (the Stanford dragon has 437,645)
+MAX_MESH_VERTICES = 1_000_000
+#: most triangles a mesh file may hold (the Stanford dragon has 871,414)
+MAX_MESH_TRIANGLES = 2_000_000
+#: most lights in a scene (OpenGL's fixed pipeline had 8)
+MAX_LIGHTS = 16
+#: largest |coordinate| of a position, direction, eye, focal point or up vector, in scene units
+#: (the meshes fit the unit sphere; beyond this, distances squared overflow float32)
+MAX_COORDINATE = 1e6
+#: most area-light Monte Carlo evaluations for one picture: samples × shaded vertices
+MAX_AREA_SAMPLE_POINTS = 50_000_000
+#: largest scene or lesson file, in bytes
+MAX_SCENE_FILE_BYTES = 1024 * 1024
+#: deepest nesting of [ ] and { } in a scene file, lesson front matter or --set value
+MAX_NESTING = 16
+#: longest value text given on the command line (--set, --sweep), in characters
+MAX_VALUE_CHARS = 10_000

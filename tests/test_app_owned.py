@@ -1,0 +1,61 @@
+"""Keys the browser can write cannot wedge a tab; notices stay short and name no exception class."""
+
+from __future__ import annotations
+
+import pytest
+
+from phonglab.app import owned
+from phonglab.app.lesson_app import LessonApp
+
+from test_app_page import MISTAKE_LESSON  # the lesson with a mistake switch
+
+
+@pytest.fixture
+def app(tmp_path):
+    from trame.app import get_server
+
+    (tmp_path / "01-raw.md").write_text(MISTAKE_LESSON, encoding="utf-8")
+    server = get_server(f"test-owned-{tmp_path.name}", client_type="vue3")
+    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
+    yield application
+    application.close()
+
+
+@pytest.mark.parametrize("written", ["abc", 3, [1, 2], {"available": True}, None])
+def test_a_browser_write_to_the_mistake_key_is_undone_and_controls_keep_working(app, written):
+    ours = app.state.mistake
+    app.state.ready()  # change handlers run on flush once the state is ready, as in a served page
+    app.state.mistake = written  # what trame.state.set('mistake', ...) from a tab does
+    app.state.flush()
+    assert app.state.mistake == ours, f"mistake = {written!r} stayed in the state"
+    app._on_control("view__mistake", True)
+    assert app.view.mistake == "unnormalised-normals", app.state.notice
+    app._on_control("material__ks__level", 0.3)
+    assert app.state.notice is None or app.state.notice["kind"] != "error", app.state.notice
+
+
+def test_a_light_past_the_coordinate_bound_is_refused_like_check_refuses_it(app):
+    scene = app.scene
+    key = next(k for k, c in app.controls.by_key.items() if c.path.endswith("position") and c.kind == "value")
+    app._on_control(key, [-1e308, 0, 0])
+    assert app.scene is scene
+    text = app.state.notice["text"]
+    assert "Refused" in text and "1,000,000" in text, text
+
+
+def test_a_huge_value_is_not_echoed_whole(app):
+    app._on_control("material__ks__level", list(range(100_000)))
+    text = app.state.notice["text"]
+    assert len(text) <= owned.NOTICE_CHARS and "99999" not in text, text[:400]
+
+
+def test_notices_carry_the_reason_not_the_exception_class(app, monkeypatch):
+    def broken(*args, **kwargs):
+        raise AttributeError("'str' object has no attribute 'get'")
+
+    monkeypatch.setattr(app.view, "update", broken)
+    app._on_control("material__ks__level", 0.3)
+    text = app.state.notice["text"]
+    assert "AttributeError" not in text and "no attribute" in text, text
+    assert owned.reason(RuntimeError("")).startswith("an internal error")
+    assert len(owned.short("x" * 10_000)) == owned.NOTICE_CHARS
