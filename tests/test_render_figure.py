@@ -9,25 +9,19 @@ import pytest
 
 pytest.importorskip("vtk")
 
-import phonglab as pl  # noqa: E402
 from phonglab.render import FigureError, figure, render  # noqa: E402
 from phonglab.render.layout import grid_layout  # noqa: E402
 from phonglab.render.options import parse_size, parse_sweep, split_values  # noqa: E402
 from phonglab.render.plots import half_width  # noqa: E402
-from phonglab.scene import Camera, Geometry, Scene, SceneError  # noqa: E402
+from phonglab.bench import scenes  # noqa: E402
+from phonglab.scene import Camera, Scene, SceneError  # noqa: E402
 
 SMALL = (200, 150)
 
 
 def scene(**changes) -> Scene:
-    s = Scene(
-        geometry=Geometry("sphere", 16),
-        material=pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40),
-        lights=(pl.AmbientLight(intensity=0.2), pl.PointLight(position=(2, 2.5, 3))),
-        camera=Camera(eye=(0.0, 0.0, 5.0)),
-        probe=(0.35, 0.45, 0.82),
-        title="Test sphere",
-    )
+    # the shared red sphere, seen from a little further away
+    s = scenes.red_sphere(16, camera=Camera(eye=(0.0, 0.0, 5.0)), probe=(0.35, 0.45, 0.82), title="Test sphere")
     for path, value in changes.items():
         s = s.replace(path, value)
     return s

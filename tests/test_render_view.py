@@ -12,19 +12,15 @@ vtk = pytest.importorskip("vtk")
 
 import phonglab as pl  # noqa: E402
 from phonglab.render.view import SceneView  # noqa: E402
+from phonglab.bench import scenes  # noqa: E402
 from phonglab.scene import Camera, Geometry, Scene  # noqa: E402
 
 SIZE = (200, 150)
 
 
 def red_sphere(**changes) -> Scene:
-    scene = Scene(
-        geometry=Geometry("sphere", 24),
-        material=pl.Material(ka=0.1, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=40),
-        lights=(pl.AmbientLight(intensity=0.2), pl.PointLight(position=(2, 2.5, 3))),
-        camera=Camera(),
-        probe=(0.35, 0.45, 0.82),
-    )
+    # the shared red sphere, with the default camera
+    scene = scenes.red_sphere(24, camera=Camera(), probe=(0.35, 0.45, 0.82))
     for path, value in changes.items():
         scene = scene.replace(path.replace("__", "."), value)
     return scene
