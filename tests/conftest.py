@@ -28,3 +28,6 @@ def _no_event_loop_left_running(request):
         yield
     finally:
         asyncio._set_running_loop(loop)
+
+# this file is set-up, not a module of tests: keep --doctest-modules from importing it a second time
+collect_ignore = ["conftest.py"]

@@ -11,28 +11,10 @@ import pytest
 
 pytest.importorskip("vtk")
 
+from phonglab.bench import scenes  # noqa: E402
 from phonglab.cli import main  # noqa: E402
 
-SCENE = """\
-title = "CLI sphere"
-probe = [0.35, 0.45, 0.82]
-[geometry]
-kind = "sphere"
-resolution = 12
-[material]
-ka = 0.1
-kd = [0.8, 0.3, 0.2]
-ks = 0.6
-shininess = 40
-[[lights]]
-type = "ambient"
-intensity = 0.2
-[[lights]]
-type = "point"
-position = [2, 2.5, 3]
-[camera]
-eye = [0, 0, 5]
-"""
+SCENE = 'title = "CLI sphere"\nprobe = [0.35, 0.45, 0.82]\n' + scenes.red_sphere_tables(12, shininess=40)
 
 
 @pytest.fixture
