@@ -1,4 +1,4 @@
-"""The ``phonglab`` command line: serve, export, check, plan, bench.
+"""The ``phonglab`` command line: serve, export, check, plan, bench, grade, new.
 
 Each subcommand lives in its own module of this package and exposes two
 functions::
