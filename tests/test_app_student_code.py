@@ -12,6 +12,8 @@ from phonglab.app.student_code import MAX_CODE_BYTES, StudentCodePanel, check_co
 from phonglab.scene.check import CheckQuestion
 from phonglab.teaching.grading import Limits
 
+from grade_students import student_source
+
 DATA = Path(__file__).resolve().parent / "data" / "grade"
 
 
@@ -116,7 +118,7 @@ def test_grading_pasted_code_in_a_thread_gives_the_report_and_the_picture():
 
 
 def test_pasted_code_with_a_mistake_is_diagnosed_and_broken_code_is_reported():
-    wrong = grade_code((DATA / "spot_cutoff_in_degrees.py").read_text(), Limits())
+    wrong = grade_code(student_source("spot_cutoff_in_degrees.py"), Limits())
     assert wrong["score"] < 100 and wrong["diagnosis"] == ["spot-cutoff-in-degrees"], wrong["report"]
     broken = grade_code("def shade(:\n", Limits())
     assert broken["error"].startswith("The code cannot be loaded: SyntaxError"), broken

@@ -1,9 +1,10 @@
 """`phonglab grade`: grading a student's shade() in a sandbox, diagnosis, reports and their limits.
 
 The student files live in tests/data/grade: an independent, correct textbook
-loop (it does not call phonglab.shade), the same loop with one catalogue
-mistake each, a reversed reflection vector, files that raise, return NaN or
-the wrong shape, loop forever, fail to load, or try to leave the sandbox.
+loop (it does not call phonglab.shade), files that raise, return NaN or the
+wrong shape, loop forever, fail to load, or try to leave the sandbox. The
+same loop with one catalogue mistake each is made from the correct one by
+tests/grade_students.py.
 """
 
 from __future__ import annotations
@@ -33,6 +34,8 @@ from phonglab.teaching.grading import (
 )
 from phonglab.teaching.sandbox import Outcome, Sandbox, network_isolation
 
+from grade_students import STUDENTS, student_path
+
 DATA = Path(__file__).resolve().parent / "data" / "grade"
 
 #: the student file that makes each catalogue mistake
@@ -60,7 +63,7 @@ QUICK = Limits(time_limit=1.0, total_limit=20.0)
 @functools.lru_cache(maxsize=None)
 def graded(name: str, limits: Limits = Limits()):
     """Grade a student file once per test session (each run starts a worker process)."""
-    return grade_file(DATA / name, limits)
+    return grade_file(student_path(name), limits)
 
 
 def run_cli(capsys, *argv):
@@ -143,10 +146,15 @@ def test_an_independent_correct_implementation_gets_full_marks():
     assert report.diagnosis == []
 
 
+def test_every_generated_student_file_makes_a_catalogue_mistake():
+    orphans = sorted(set(STUDENTS) - set(MISTAKE_FILES.values()))
+    assert not orphans, f"tests/grade_students.py makes {orphans}, which no catalogue mistake in MISTAKE_FILES uses"
+
+
 @pytest.mark.parametrize("name", sorted(set(MISTAKES) | set(MISTAKE_FILES)))
 def test_a_catalogue_mistake_loses_marks_and_is_named(name):
     if name not in MISTAKE_FILES:
-        pytest.skip(f"no student file for the mistake {name!r}: add one to tests/data/grade and MISTAKE_FILES")
+        pytest.skip(f"no student file for the mistake {name!r}: add its lines to tests/grade_students.py and MISTAKE_FILES")
     report = graded(MISTAKE_FILES[name])
     assert report.score < 100, format_report(report)
     assert name in MISTAKES, f"{name}: a student file for a mistake the catalogue does not have"
@@ -352,7 +360,7 @@ def check_gradescope(results: dict) -> None:
 
 def test_cli_writes_gradescope_results_and_exits_1_when_some_fail(capsys, tmp_path):
     out_json = tmp_path / "results.json"
-    status, out, err = run_cli(capsys, "grade", DATA / "zero_shininess.py", "--json", out_json)
+    status, out, err = run_cli(capsys, "grade", student_path("zero_shininess.py"), "--json", out_json)
     assert status == 1, (out, err)
     results = json.loads(out_json.read_text())
     check_gradescope(results)
@@ -404,7 +412,7 @@ def test_cli_picture_shows_the_student_beside_the_core(capsys, tmp_path):
     # the correct student's sphere is the core's, to the last grey level
     assert np.abs(panels[0] - panels[1]).max() <= 1
     # a mistake shows in the picture
-    core, wrong, mask, failures = grade_cli.sphere_images(DATA / "no_clamp_diffuse.py", Limits())
+    core, wrong, mask, failures = grade_cli.sphere_images(student_path("no_clamp_diffuse.py"), Limits())
     assert failures == 0 and np.max(np.abs(wrong[mask] - core[mask])) > 0.1
 
 
