@@ -264,3 +264,24 @@ def test_the_page_gets_the_opacity_on_the_mesh_actor():
         assert found == [pytest.approx(0.4)], found
     finally:
         view.close()
+
+
+def test_a_lamp_behind_the_sphere_shows_through_both_sides():
+    # the lamp's marker (a glyph, opaque) behind the sphere, the far side lit from behind (one-sided rule)
+    scene = red_sphere(48, interpolation="pixel").replace("lights[1].position", [0.0, 0.0, -2.0])
+
+    def centre_of(opacity):
+        view = SceneView(with_opacity(scene, opacity), size=SIZE, vectors="", markers=True)
+        try:
+            return centre(view.screenshot(annotate=False))
+        finally:
+            view.close()
+
+    marker = centre_of(0.0)  # the mesh invisible: the marker alone
+    assert marker.min() > 200, marker
+    assert centre_of(1.0).max() < 60  # opaque: the lit far side and the marker are hidden
+    front, back = pole_colours(scene)
+    assert back[0] > 0.8 > 0.1 > front[0], (front, back)
+    expected = display_bytes(composite_closed(front, back, srgb_decode(marker / 255.0), ALPHA)).astype(int)
+    got = centre_of(ALPHA)
+    assert np.abs(got - expected).max() <= 2, (got, expected)
