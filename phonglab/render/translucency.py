@@ -63,7 +63,7 @@ CULL_FAR, CULL_NEAR = "front", "back"
 class Layer(NamedTuple):
     """One side of the mesh as the camera sees it."""
 
-    #: linear light shown at each pixel, shape (height, width, 3), float64 (anything where ``mask`` is False)
+    #: linear light shown at each pixel, shape (height, width, 3), float64 (meaningless where ``mask`` is False)
     linear: np.ndarray
     #: True where this layer covers the pixel
     mask: np.ndarray
@@ -76,10 +76,20 @@ def translucent(scene) -> bool:
     return float(scene.material.opacity) < 1.0
 
 
+#: the linear light each 8-bit value encodes, per display curve (a table: decoding is per pixel and channel)
+_DECODED = {"srgb": srgb_decode(np.arange(256) / 255.0), "linear": np.arange(256) / 255.0}
+
+
 def decode(rgb8: np.ndarray, encoding: str) -> np.ndarray:
-    """8-bit display values back to the linear light they encode (``"srgb"`` or ``"linear"``)."""
-    values = np.asarray(rgb8, dtype=np.float64) / 255.0
-    return srgb_decode(values) if encoding == "srgb" else values
+    """8-bit display values back to the linear light they encode (``"srgb"`` or ``"linear"``), float64."""
+    return _DECODED[encoding][np.asarray(rgb8, dtype=np.uint8)]
+
+
+def _decoded_where(rgb8: np.ndarray, mask: np.ndarray, encoding: str) -> np.ndarray:
+    """:func:`decode` of the masked pixels; zero elsewhere."""
+    linear = np.zeros(rgb8.shape, dtype=np.float64)
+    linear[mask] = decode(rgb8[mask], encoding)
+    return linear
 
 
 def _props(renderer: vtk.vtkRenderer) -> list:
@@ -111,7 +121,10 @@ def vtk_layers(window: vtk.vtkRenderWindow, renderer: vtk.vtkRenderer, actor: vt
                 window.Render()
                 depth = read_depth(window)
                 # distances now: the next render fits its own clipping range
-                layers.append(Layer(decode(read_rgb(window), encoding), depth < 1.0, eye_distance(camera, depth)))
+                mask = depth < 1.0
+                distance = np.full(depth.shape, np.inf)
+                distance[mask] = eye_distance(camera, depth[mask])
+                layers.append(Layer(_decoded_where(read_rgb(window), mask, encoding), mask, distance))
         finally:
             actor.SetVisibility(saved[0])
             prop.SetOpacity(saved[1])
@@ -151,17 +164,23 @@ def composite(behind: np.ndarray, behind_distance: np.ndarray, layers, alpha: fl
     ndarray, shape (height, width, 3), uint8
         ``behind`` where no layer counts (unchanged, not round-tripped).
     """
-    linear = decode(behind, encoding)
-    touched = np.zeros(behind.shape[:2], dtype=bool)
-    limit = behind_distance * (1 + DEPTH_SLACK)
+    out = np.array(behind, dtype=np.uint8, copy=True)
+    covered = np.zeros(behind.shape[:2], dtype=bool)
+    for layer in layers:
+        covered |= layer.mask
+    # only the pixels some layer covers, as flat lists
+    linear = decode(out[covered], encoding)
+    limit = behind_distance[covered] * (1 + DEPTH_SLACK)
+    touched = np.zeros(len(linear), dtype=bool)
     for layer in layers:
         # a layer counts where it lies in front of the glyph there (or no glyph was drawn)
-        use = layer.mask & (layer.distance <= limit)
-        linear[use] = over(layer.linear[use], alpha, linear[use])
+        use = layer.mask[covered] & (layer.distance[covered] <= limit)
+        linear[use] = over(layer.linear[covered][use], alpha, linear[use])
         touched |= use
-    out = np.array(behind, dtype=np.uint8, copy=True)
     # encode once, after blending
-    out[touched] = display_bytes(linear[touched], encoding=encoding)
+    pixels = out[covered]
+    pixels[touched] = display_bytes(linear[touched], encoding=encoding)
+    out[covered] = pixels
     return out
 
 
