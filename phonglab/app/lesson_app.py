@@ -48,6 +48,7 @@ from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
 from phonglab.render import SceneView
+from phonglab.render.translucency import translucent
 from phonglab.scene import SceneError, load_lesson, load_scene, plan
 from phonglab.scene.loader import lesson_files
 
@@ -332,6 +333,8 @@ class LessonApp(TrameApp):
     def _refresh_pixels(self) -> None:
         """In pixel mode, the core's per-pixel image (from the scene's camera) over the view."""
         pixel = self.scene.interpolation == "pixel"
+        # a translucent mesh is blended in linear light by the server (vtk.js would blend encoded colours)
+        pixel = pixel or translucent(self.scene)
         self.state.pixel_mode = pixel
         if not pixel:
             self.state.pixel_src = ""

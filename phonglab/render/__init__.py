@@ -14,6 +14,10 @@ Both can show a lesson's common mistake (``mistake=``, a name from
 deliberately wrong variant (:meth:`SceneView.set_mistake`; ``figure(...,
 mistake=..., compare=True)`` for the correct and the wrong picture side by side).
 
+A material's opacity below 1 is drawn in every mode and every picture: the
+mesh's near and far layers blended over what lies behind them, in linear
+light (:mod:`~phonglab.render.translucency`).
+
 The names above load VTK (and matplotlib) on first use, so the VTK-free
 modules (:mod:`~phonglab.render.framing`, :mod:`~phonglab.render.camera`,
 :mod:`~phonglab.render.options`, :mod:`~phonglab.render._files`) import

@@ -77,6 +77,17 @@ def colour_mesh(mapper: vtk.vtkPolyDataMapper, mesh: pv.PolyData, scene, term: s
     mapper.Modified()
 
 
+def set_opacity(actor: vtk.vtkActor, opacity: float) -> None:
+    """Give the mesh's actor the material's opacity (a browser's vtk.js copy draws with it).
+
+    Images do not rely on VTK's blending: :mod:`~phonglab.render.translucency`
+    composites the mesh's layers in linear light.
+    """
+    prop = actor.GetProperty()
+    if prop.GetOpacity() != float(opacity):
+        prop.SetOpacity(float(opacity))
+
+
 def legend_font_size(height: int) -> int:
     """Font size (pixels) of the VTK legend in a window this tall."""
     return max(10, int(height) // 38)

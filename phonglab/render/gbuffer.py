@@ -24,6 +24,8 @@ from phonglab.render._vtk import make_render_window
 
 #: name of the 6-component point array (normal xyz, position xyz) drawn by the value pass
 GBUFFER_ARRAY = "phonglab_gbuffer"
+#: which faces a G-buffer may leave out: none, the back faces, the front faces
+CULLS = (None, "back", "front")
 
 
 @dataclass(frozen=True)
@@ -96,7 +98,8 @@ class GBufferRenderer:
         self._mapper.SetInputData(data)
         self._source, self._data = mesh, data
 
-    def render(self, mesh: pv.PolyData, camera: vtk.vtkCamera, size: tuple[int, int]) -> GBuffer:
+    def render(self, mesh: pv.PolyData, camera: vtk.vtkCamera, size: tuple[int, int], *,
+               cull: str | None = None) -> GBuffer:
         """The G-buffer of ``mesh`` seen by ``camera`` at ``size`` = (width, height).
 
         Parameters
@@ -107,8 +110,19 @@ class GBufferRenderer:
             Copied; the clipping range is fitted to the mesh.
         size : (int, int)
             Image width and height in pixels.
+        cull : {None, "back", "front"}
+            None (the default) keeps the nearest surface whichever way it
+            faces. ``"back"`` leaves out the faces turned away from the camera
+            (the near side of a closed mesh); ``"front"`` leaves out the faces
+            turned towards it (the far side, seen from inside). A face's
+            side is its winding on screen, as in OpenGL.
         """
         width, height = int(size[0]), int(size[1])
+        if cull not in CULLS:
+            raise ValueError(f"cull must be one of {', '.join(map(repr, CULLS))}, got {cull!r}")
+        prop = self._actor.GetProperty()
+        prop.SetBackfaceCulling(cull == "back")
+        prop.SetFrontfaceCulling(cull == "front")
         self._use_mesh(mesh)
         self._window.SetSize(width, height)
         self._renderer.GetActiveCamera().DeepCopy(camera)

@@ -25,21 +25,32 @@ class GBufferCache:
     def __init__(self):
         self._renderer = None
         self._cached = None
+        self._culled = {}  # cull -> (key, GBuffer), for the layers of a translucent mesh
 
-    def get(self, mesh: pv.PolyData, camera: vtk.vtkCamera, size) -> GBuffer:
-        """The G-buffer for ``mesh`` seen through ``camera`` in a window of ``size`` = (width, height)."""
+    def get(self, mesh: pv.PolyData, camera: vtk.vtkCamera, size, *, cull: str | None = None) -> GBuffer:
+        """The G-buffer for ``mesh`` seen through ``camera`` in a window of ``size`` = (width, height).
+
+        ``cull`` (``"back"`` or ``"front"``) leaves out one side's faces
+        (:meth:`GBufferRenderer.render`); each kind is cached on its own.
+        """
         size = tuple(size)
         key = (id(mesh), size, camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),
                camera.GetViewAngle(), camera.GetParallelProjection(), camera.GetParallelScale())
-        if self._cached is None or self._cached[0] != key:
+        cached = self._cached if cull is None else self._culled.get(cull)
+        if cached is None or cached[0] != key:
             if self._renderer is None:
                 self._renderer = GBufferRenderer()
-            self._cached = (key, self._renderer.render(mesh, camera, size))
-        return self._cached[1]
+            cached = (key, self._renderer.render(mesh, camera, size, cull=cull))
+            if cull is None:
+                self._cached = cached
+            else:
+                self._culled[cull] = cached
+        return cached[1]
 
     def clear(self) -> None:
-        """Forget the G-buffer (the mesh or the camera changed)."""
+        """Forget the G-buffers (the mesh or the camera changed)."""
         self._cached = None
+        self._culled = {}
 
     def close(self) -> None:
         """Release the G-buffer's OpenGL context."""

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from phonglab.core.display import display_bytes
+from phonglab.core.display import display_bytes, display_values
 from phonglab.render.gbuffer import GBuffer
 from phonglab.render.mesh import face_centroids_normals
 
@@ -176,14 +176,7 @@ def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
         came (:attr:`GBuffer.raw_normals`), so its bug shows.
     """
     mask = gbuffer.mask
-    normals = gbuffer.normals
-    if mistake is not None and get_mistake(mistake).needs_raw_normals:
-        # the bug: the interpolated normals, not renormalised
-        if gbuffer.raw_normals is None:
-            raise ValueError(f"gbuffer: the mistake {mistake!r} needs the raw interpolated normals, "
-                             "and this G-buffer has none")
-        normals = gbuffer.raw_normals
-    shading = shade(scene, gbuffer.positions[mask], normals[mask], mistake)
+    shading = _pixel_shading(scene, gbuffer, mistake)
     back = to_rgb8(background)
     out = {}
     for t in terms:
@@ -191,4 +184,36 @@ def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
         image[...] = back
         image[mask] = display_rgb8(scene, term_of(shading, t))
         out[t] = image
+    return out
+
+
+def _pixel_shading(scene, gbuffer: GBuffer, mistake: str | None):
+    """The core's ``Shading`` of a G-buffer's covered pixels (raw normals for a mistake that needs them)."""
+    mask = gbuffer.mask
+    normals = gbuffer.normals
+    if mistake is not None and get_mistake(mistake).needs_raw_normals:
+        # the bug: the interpolated normals, not renormalised
+        if gbuffer.raw_normals is None:
+            raise ValueError(f"gbuffer: the mistake {mistake!r} needs the raw interpolated normals, "
+                             "and this G-buffer has none")
+        normals = gbuffer.raw_normals
+    return shade(scene, gbuffer.positions[mask], normals[mask], mistake)
+
+
+def pixel_linear(scene, gbuffer: GBuffer, term: str = "color", mistake: str | None = None) -> np.ndarray:
+    """Per pixel: the linear light the display will show, before its encoding, for blending.
+
+    The core's colour (or one term) at every covered pixel, times the
+    scene's exposure and clipped to [0, 1] (:func:`display_values` with the
+    ``"linear"`` curve): what :func:`pixel_colors` encodes, one step earlier.
+
+    Returns
+    -------
+    ndarray, shape (height, width, 3), float64
+        NaN where the G-buffer's mesh does not cover the pixel.
+    """
+    mask = gbuffer.mask
+    out = np.full(mask.shape + (3,), np.nan)
+    out[mask] = display_values(term_of(_pixel_shading(scene, gbuffer, mistake), term), encoding="linear",
+                               exposure=getattr(scene, "exposure", 1.0))
     return out

@@ -54,7 +54,7 @@ import numpy as np
 import pyvista as pv
 import vtk
 
-from phonglab.render import actors, framing, glyphs, picking, pixels, shading
+from phonglab.render import actors, framing, glyphs, picking, pixels, shading, translucency
 from phonglab.render._vtk import hidden, make_render_window, read_depth, read_rgb, set_camera
 from phonglab.render.arrows import ProbeArrows
 from phonglab.render.annotate import draw_labels, draw_legend
@@ -436,6 +436,8 @@ class SceneView:
     def _recolor(self) -> None:
         """Recompute the mesh colours with the core and write them into the arrays."""
         actors.colour_mesh(self._mapper, self.mesh, self.scene, self.term, self.mistake)
+        # the material's opacity on the actor too: a browser's copy (vtk.js) blends with it
+        actors.set_opacity(self._mesh_actor, self.scene.material.opacity)
 
     def _update_vectors(self) -> None:
         """Recompute N, L, R, V, H at the probe and reshape the arrows in place."""
@@ -533,12 +535,15 @@ class SceneView:
         """
         return picking.pick(self.renderer, self._mesh_actor, display_x, display_y)
 
-    def gbuffer(self):
+    def gbuffer(self, *, cull: str | None = None):
         """The mesh's :class:`~phonglab.render.gbuffer.GBuffer` for the current VTK camera and window size.
 
         Rendered again only when the mesh, the camera or the size has changed.
+        ``cull="back"`` or ``"front"`` leaves out one side's faces (the
+        layers of a translucent mesh, :mod:`~phonglab.render.translucency`).
         """
-        return self._gbuffers.get(self.mesh, self.renderer.GetActiveCamera(), self.render_window.GetSize())
+        return self._gbuffers.get(self.mesh, self.renderer.GetActiveCamera(), self.render_window.GetSize(),
+                                  cull=cull)
 
     def pixel_image(self, term: str | None = None) -> np.ndarray:
         """The mesh shaded per pixel by the core, on the background (no glyphs).
@@ -597,7 +602,9 @@ class SceneView:
         """Render and return the image, optionally saving it as PNG.
 
         In pixel mode the per-pixel shaded mesh is composited with the glyphs
-        by depth. Labels and the legend are drawn on the image (not by VTK).
+        by depth. A material with opacity < 1 is blended over what lies
+        behind it, in every mode (:mod:`~phonglab.render.translucency`).
+        Labels and the legend are drawn on the image (not by VTK).
 
         Parameters
         ----------
@@ -611,11 +618,14 @@ class SceneView:
         ndarray, shape (height, width, 3), uint8
         """
         pixel_mode = self.scene.interpolation == "pixel"
+        translucent = translucency.translucent(self.scene)
         # VTK's text is not in images (they get their own letters); in pixel mode the core draws the mesh
-        with hidden(self._glyphs.text_actors() + ([self._mesh_actor] if pixel_mode else [])):
+        with hidden(self._glyphs.text_actors() + ([self._mesh_actor] if pixel_mode or translucent else [])):
             self.render()
             image = read_rgb(self.render_window)
-            if pixel_mode:
+            if translucent:  # the mesh's two layers blended over the glyphs and background
+                image = translucency.composite_view(self, image, read_depth(self.render_window))
+            elif pixel_mode:
                 image = pixels.composite(image, read_depth(self.render_window), self.gbuffer(), self.pixel_image(),
                                          self.renderer.GetActiveCamera())
         if annotate:
