@@ -185,3 +185,50 @@ def test_the_notice_is_one_line():
     _, _, problems = _open(SPECULAR, "?interpolation=banana&colour=red")
     text = address.notice(problems)
     assert "\n" not in text and "banana" in text and "colour" in text, text
+
+
+@pytest.fixture
+def make_app(tmp_path):
+    """LessonApp tabs on the test lessons (no browser), closed at the end."""
+    from trame.app import get_server
+
+    from phonglab.app.lesson_app import LessonApp
+    from phonglab.bench.scenes import write_lessons
+
+    (tmp_path / "lessons").mkdir()
+    folder = write_lessons(tmp_path / "lessons", ["01-sphere.md", "02-spot.md"])
+    apps = []
+
+    def make():
+        server = get_server(f"address-{tmp_path.name}-{len(apps)}", client_type="vue3")
+        apps.append(LessonApp(server, target=folder))
+        return apps[-1]
+
+    yield make
+    for app in apps:
+        app.close()
+
+
+def test_a_tab_writes_its_settings_and_another_tab_opens_them(make_app):
+    app = make_app()
+    assert app.state[address.QUERY_KEY] == "?lesson=01-sphere"
+    app._on_control("material__ks__level", 0.8)
+    app._on_control("interpolation", "flat")
+    app._on_control("view__term", "specular")
+    query = app.state[address.QUERY_KEY]
+    assert sorted(query[1:].split("&")) == ["interpolation=flat", "lesson=01-sphere", "material.ks=0.8",
+                                            "view.term=specular"], query
+    # the query as the next page sends it
+    other = make_app()
+    other.state[address.REQUEST_KEY] = query
+    other._on_address()
+    assert other.scene == app.scene and other.options == app.options, query
+    assert other.state[address.QUERY_KEY] == query and other.state.notice is None, other.state.notice
+    assert other.state.readout == app.state.readout
+    # a bad value: one notice, the lesson opens (lesson 2 here) and the rest applies
+    other.state[address.REQUEST_KEY] = "?lesson=02-spot&lights[1].exponent=-3&lights[1].cutoff=40"
+    other._on_address()
+    assert other.entry.path.stem == "02-spot" and other.scene.lights[1].cutoff == 40
+    text = other.state.notice["text"]
+    assert "lights[1].exponent" in text and "-3" in text and "between 0 and 128" in text, text
+    assert other.state[address.QUERY_KEY] == "?lesson=02-spot&lights[1].cutoff=40"
