@@ -189,10 +189,11 @@ class ViewAddress:
         self._lesson_scene = None
         self._defaults: dict = {}
 
-    def _default(self, control, scene) -> object:
+    def _default(self, key, control, scene) -> object:
+        """The address text of ``control`` (state ``key``) on the lesson's ``scene``, or a mark that it has none."""
         if scene is not self._lesson_scene:
             self._lesson_scene, self._defaults = scene, {}
-        key = (control.key, control.kind)
+        key = (key, control.kind)
         if key not in self._defaults:
             try:
                 self._defaults[key] = format_setting(control, control.read(scene, dict(DEFAULT_OPTIONS)))
@@ -200,24 +201,33 @@ class ViewAddress:
                 self._defaults[key] = _UNREAD
         return self._defaults[key]
 
-    def settings(self, entry, scene, options, controls) -> list[tuple[str, str]]:
-        """``(path, text)`` for every setting of ``scene``/``options`` that differs from the lesson's."""
+    def settings(self, entry, scene, options, controls, values=None) -> list[tuple[str, str]]:
+        """``(path, text)`` for every setting of ``scene``/``options`` that differs from the lesson's.
+
+        ``values`` (state key -> widget value, :meth:`ControlSet.values`) saves reading them again.
+        """
         out = []
         for path in setting_paths(controls):
-            control = controls.by_key.get(state_key(path))
+            key = state_key(path)
+            control = controls.by_key.get(key)
             if control is None:
                 continue
             try:
-                text = format_setting(control, control.read(scene, options))
+                value = values[key] if values is not None and key in values else control.read(scene, options)
+                text = format_setting(control, value)
             except Exception:
                 continue
-            if text is not None and text != self._default(control, entry.scene):
+            if text is not None and text != self._default(key, control, entry.scene):
                 out.append((path, text))
         return out
 
-    def query(self, entry, scene, options, controls) -> str:
-        """``?lesson=…&path=value…`` for the view on screen (``entry``'s lesson, ``scene``, view ``options``)."""
-        pairs = [("lesson", lesson_key(entry))] + self.settings(entry, scene, options, controls)
+    def query(self, entry, scene, options, controls, values=None) -> str:
+        """``?lesson=…&path=value…`` for the view on screen (``entry``'s lesson, ``scene``, view ``options``).
+
+        ``controls`` is the tab's :class:`~phonglab.app.controls.ControlSet`, fitted to ``scene``;
+        ``values`` its widget values for ``scene``, if already read.
+        """
+        pairs = [("lesson", lesson_key(entry))] + self.settings(entry, scene, options, controls, values)
         return "?" + urlencode(pairs, safe=",[]")
 
 

@@ -361,9 +361,9 @@ class LessonApp(TrameApp):
         self.accuracy.follow(scene)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)
-        self._sync_control_values()
+        values = self._sync_control_values()
         # the address bar: the lesson and the settings that differ from the lesson's
-        s[address.QUERY_KEY] = self.address.query(self.entry, scene, self.options, self.controls)
+        s[address.QUERY_KEY] = self.address.query(self.entry, scene, self.options, self.controls, values)
         if rebuilt:
             s.control_labels = {c.key: text.inline(c.label) for c in self.controls.widgets}
             page.build_controls(self.server, self.controls.chosen, self.controls.widgets)
@@ -372,10 +372,11 @@ class LessonApp(TrameApp):
                     self._watched.add(key)
                     s.change(key)(self._watcher(key))
 
-    def _sync_control_values(self) -> None:
-        """Write every control's value for the current scene into the state."""
+    def _sync_control_values(self) -> dict:
+        """Write every control's value for the current scene into the state; returns them (state key -> value)."""
         shown = {}
-        for key, value in self.controls.values(self.scene, self.options).items():
+        values = self.controls.values(self.scene, self.options)
+        for key, value in values.items():
             control = self.controls.by_key[key]
             # never echo a browser's own value back with rounding noise: a slider
             # being dragged would jump back to an older position
@@ -385,6 +386,7 @@ class LessonApp(TrameApp):
                 shown[key] = format_value(control, value)
         if shown != self.state.control_values:
             self.state.control_values = shown
+        return values
 
     # ------------------------------------------------------------------
     # browser input
