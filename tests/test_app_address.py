@@ -37,7 +37,9 @@ def test_a_bad_address_is_refused_with_a_problem(query, words):
 # ---------------------------------------------------------------------------
 # the settings in the address
 
-from hypothesis import given, settings, strategies as st  # noqa: E402
+from hypothesis import assume, given, settings, strategies as st  # noqa: E402
+
+from phonglab.app.control import ControlError  # noqa: E402
 
 from phonglab.app import controls as ctl  # noqa: E402
 from phonglab.scene import scene_to_dict  # noqa: E402
@@ -137,12 +139,17 @@ def test_any_slider_position_comes_back_from_the_address(data):
     control = data.draw(st.sampled_from(_sliders(SPECULAR)), label="slider")
     steps = int(round((control.high - control.low) / control.step))
     value = control.low + control.step * data.draw(st.integers(0, steps), label="steps")
-    scene, options, controls = _change(SPECULAR, [(control.key, value)])
+    try:
+        scene, options, controls = _change(SPECULAR, [(control.key, value)])
+    except ControlError:  # a value the page refuses too (attenuation all zero)
+        assume(False)
     query = address.ViewAddress().query(SPECULAR, scene, options, controls)
     reopened, reopened_options, problems = _open(SPECULAR, query)
     assert not problems, (control.path, value, query, problems)
     back = _controls(SPECULAR).by_key[control.key].read(reopened, reopened_options)
     shown = control.read(scene, options)
+    if control.path.endswith("azimuth"):  # -180° and 180° are the same place
+        back = shown + ((back - shown + 180.0) % 360.0 - 180.0)
     assert control.same(back, shown), (control.path, value, shown, back, query)
 
 
@@ -158,7 +165,7 @@ def test_any_slider_position_comes_back_from_the_address(data):
     ("colour=red", ["unknown setting 'colour'"]),
     ("lesson.x=1", ["unknown setting 'lesson.x'"]),
     ("material.ks=" + "1" * 300, ["material.ks", "at most 200 characters"]),
-])
+], ids=lambda x: x[:30] if isinstance(x, str) else "")
 def test_a_bad_setting_is_dropped_with_a_notice_and_the_rest_applies(setting, words):
     query = f"?lesson=04-specular&interpolation=gouraud&{setting}&material.shininess=10"
     scene, options, problems = _open(SPECULAR, query)
