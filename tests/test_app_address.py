@@ -121,6 +121,27 @@ def test_back_to_the_lesson_values_drops_them_from_the_address():
     assert address.ViewAddress().query(SPECULAR, scene, options, controls) == "?lesson=04-specular"
 
 
+def test_a_retyped_light_is_written_as_its_type_and_what_changed_after():
+    scene, options, controls = _change(SPECULAR, [("lights_1__type", "spot")])
+    query = address.ViewAddress().query(SPECULAR, scene, options, controls)
+    assert query == "?lesson=04-specular&lights[1].type=spot", query
+    scene, options, controls = _change(SPECULAR, [("lights_1__type", "spot"), ("lights_1__cutoff", 40.0),
+                                                  ("lights_1__azimuth", 10.0)])
+    view = address.ViewAddress()
+    query = view.query(SPECULAR, scene, options, controls)
+    assert "lights[1].type=spot" in query and "lights[1].cutoff=40" in query, query
+    assert "no_cone" not in query and "exponent" not in query, query
+    reopened, reopened_options, problems = _open(SPECULAR, query)
+    assert not problems, (query, problems)
+    a, b = scene_to_dict(scene)["lights"][1], scene_to_dict(reopened)["lights"][1]
+    assert a.keys() == b.keys(), (a, b)
+    for name in a:
+        assert a[name] == (pytest.approx(b[name], abs=1e-4) if name in ("position", "direction") else b[name]), (name, a, b)
+    # the same address object, back to the lesson's light: the type goes away again
+    controls.update(SPECULAR.scene)
+    assert view.query(SPECULAR, SPECULAR.scene, dict(address.DEFAULT_OPTIONS), controls) == "?lesson=04-specular"
+
+
 @pytest.mark.parametrize("x, decimals, text", [
     (0.8, 3, "0.8"), (0.8000000000000002, 3, "0.8"), (30.0, 4, "30"), (-0.00001, 4, "0"), (31.66, 1, "31.7"),
     (2.31760368, 4, "2.3176"), (-12.0, 1, "-12"),

@@ -182,17 +182,34 @@ _UNREAD = object()
 class ViewAddress:
     """The address of one tab's view: the lesson plus the settings that differ from the lesson's.
 
-    The lesson's own values are read once per lesson scene and kept.
+    A light whose type changed is written as its type alone, then whatever
+    differs from the lesson's light retyped that way (opening the address
+    retypes first, :func:`apply_settings`): switching a point light to a spot
+    adds ``lights[1].type=spot``, not the spot's default cone. The lesson's
+    own values are read once per lesson and set of types, and kept.
     """
 
     def __init__(self):
-        self._lesson_scene = None
+        self._reference_key = None
+        self._reference = None
         self._defaults: dict = {}
 
+    def _reference_scene(self, entry, controls, types) -> object:
+        """The lesson's scene with the light ``types`` (``[(path, text)]``) applied: what the other settings differ from."""
+        key = (id(entry.scene), tuple(types))
+        if key != self._reference_key:
+            scene = entry.scene
+            for path, text in types:
+                control = controls.by_key[state_key(path)]
+                try:
+                    scene, _ = control.apply(scene, parse_setting(control, text), dict(DEFAULT_OPTIONS))
+                except ControlError:
+                    pass
+            self._reference_key, self._reference, self._defaults = key, (entry.scene, scene), {}
+        return self._reference[1]
+
     def _default(self, key, control, scene) -> object:
-        """The address text of ``control`` (state ``key``) on the lesson's ``scene``, or a mark that it has none."""
-        if scene is not self._lesson_scene:
-            self._lesson_scene, self._defaults = scene, {}
+        """The address text of ``control`` (state ``key``) on the reference ``scene``, or a mark that it has none."""
         key = (key, control.kind)
         if key not in self._defaults:
             try:
@@ -206,7 +223,7 @@ class ViewAddress:
 
         ``values`` (state key -> widget value, :meth:`ControlSet.values`) saves reading them again.
         """
-        out = []
+        current = []
         for path in setting_paths(controls):
             key = state_key(path)
             control = controls.by_key.get(key)
@@ -217,9 +234,22 @@ class ViewAddress:
                 text = format_setting(control, value)
             except Exception:
                 continue
-            if text is not None and text != self._default(key, control, entry.scene):
-                out.append((path, text))
-        return out
+            if text is not None:
+                current.append((path, key, control, text))
+        # light types first: against the lesson's own lights
+        types = []
+        for path, key, control, text in current:
+            if path.endswith(".type"):
+                try:
+                    lesson = format_setting(control, control.read(entry.scene, dict(DEFAULT_OPTIONS)))
+                except Exception:
+                    lesson = _UNREAD
+                if text != lesson:
+                    types.append((path, text))
+        # the rest: against the lesson's scene with those types
+        reference = self._reference_scene(entry, controls, types)
+        return types + [(path, text) for path, key, control, text in current
+                        if not path.endswith(".type") and text != self._default(key, control, reference)]
 
     def query(self, entry, scene, options, controls, values=None) -> str:
         """``?lesson=…&path=value…`` for the view on screen (``entry``'s lesson, ``scene``, view ``options``).
