@@ -260,3 +260,11 @@ def test_a_tab_writes_its_settings_and_another_tab_opens_them(make_app):
     text = other.state.notice["text"]
     assert "lights[1].exponent" in text and "-3" in text and "between 0 and 128" in text, text
     assert other.state[address.QUERY_KEY] == "?lesson=02-spot&lights[1].cutoff=40"
+
+
+def test_the_address_written_stays_within_the_bounds_it_is_read_with(monkeypatch):
+    scene, options, controls = _change(SPECULAR, CHANGES)
+    monkeypatch.setattr(address, "MAX_QUERY_CHARS", 80)
+    query = address.ViewAddress().query(SPECULAR, scene, options, controls)
+    assert len(query) <= 80 and query.startswith("?lesson=04-specular&lights[1].type=spot"), query
+    assert address.read_query(query)[1] == [], query

@@ -257,8 +257,12 @@ class ViewAddress:
         ``controls`` is the tab's :class:`~phonglab.app.controls.ControlSet`, fitted to ``scene``;
         ``values`` its widget values for ``scene``, if already read.
         """
-        pairs = [("lesson", lesson_key(entry))] + self.settings(entry, scene, options, controls, values)
-        return "?" + urlencode(pairs, safe=",[]")
+        settings = self.settings(entry, scene, options, controls, values)[:MAX_SETTINGS]
+        while True:  # an address this app writes is one it reads back: within the bounds
+            query = "?" + urlencode([("lesson", lesson_key(entry))] + settings, safe=",[]")
+            if len(query) <= MAX_QUERY_CHARS or not settings:
+                return query
+            settings = settings[:-1]
 
 
 # ---------------------------------------------------------------------------
