@@ -13,8 +13,8 @@ How it travels:
   ``history.replaceState``, a moment after the last change (no history
   entry per slider step);
 - when the page loads, it sends its own query once in :data:`REQUEST_KEY`;
-  :func:`lesson_index` finds the lesson and :func:`apply_query` applies the
-  settings, each through the page's own control for that key
+  :func:`lesson_index` finds the lesson, :func:`read_query` reads the
+  settings within bounds and :func:`apply_settings` applies them, each through the page's own control for that key
   (:class:`~phonglab.app.control.Control`), so an address value is checked
   exactly like a value a browser writes. A refused value or an unknown key
   becomes a notice and is dropped; the rest still applies.
@@ -34,7 +34,7 @@ Which settings (keys are field paths; :func:`setting_paths`):
 - the eye as ``camera.azimuth`` / ``elevation`` / ``distance`` (the eye
   sliders, around the focal point in the lesson's frame): a turned view
   comes back with the same eye, so the picture's shading and the readout
-  are the same. The roll, pan and zoom of a dragged view are not kept.
+  are the same. The roll, pan and view angle of a dragged view are not kept.
 
 Slider values are written to a tenth of the slider's step, file-form numbers
 to :data:`FIELD_DECIMALS` decimals: short, and the same view after a reload.
