@@ -14,7 +14,8 @@ How it travels:
   entry per slider step);
 - when the page loads, it sends its own query once in :data:`REQUEST_KEY`;
   :func:`lesson_index` finds the lesson, :func:`read_query` reads the
-  settings within bounds and :func:`apply_settings` applies them, each through the page's own control for that key
+  settings within bounds and :func:`apply_settings` applies them, each
+  through the page's own control for that key
   (:class:`~phonglab.app.control.Control`), so an address value is checked
   exactly like a value a browser writes. A refused value or an unknown key
   becomes a notice and is dropped; the rest still applies.
