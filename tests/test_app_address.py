@@ -32,3 +32,239 @@ def test_nothing_asked_opens_nothing(query):
 def test_a_bad_address_is_refused_with_a_problem(query, words):
     index, problem = address.lesson_index(query, ENTRIES)
     assert index is None and words in problem, (str(query)[:40], problem)
+
+
+# ---------------------------------------------------------------------------
+# the settings in the address
+
+from hypothesis import assume, given, settings, strategies as st  # noqa: E402
+
+from phonglab.app.control import ControlError  # noqa: E402
+
+from phonglab.app import controls as ctl  # noqa: E402
+from phonglab.scene import scene_to_dict  # noqa: E402
+from phonglab.scene.lessons import catalog  # noqa: E402
+
+LESSONS = Path(__file__).resolve().parents[1] / "lessons"
+REAL, _ = catalog(LESSONS)
+SPECULAR = next(e for e in REAL if e.path.stem == "04-specular")
+
+
+def _controls(entry):
+    """The tab's controls for ``entry`` (as LessonApp builds them), fitted to its scene."""
+    extra = {"view__mistake": ctl.MISTAKE_SWITCH} if entry.lesson and entry.lesson.mistake else {}
+    controls = ctl.ControlSet(ctl.Frame.of_camera(entry.scene.camera), entry.lesson.controls if entry.lesson else (),
+                              extra)
+    controls.update(entry.scene)
+    return controls
+
+
+def _change(entry, changes):
+    """The scene and options after the widget values ``changes`` (state key -> value), as a student sets them."""
+    controls = _controls(entry)
+    scene, options = entry.scene, dict(address.DEFAULT_OPTIONS)
+    for key, value in changes:
+        controls.update(scene)
+        scene, options = controls.by_key[key].apply(scene, value, options)
+    controls.update(scene)
+    return scene, options, controls
+
+
+def _open(entry, query):
+    """What a fresh tab shows for ``query`` on ``entry``: scene, options, problems."""
+    pairs, problems = address.read_query(query)
+    scene, options, refused = address.apply_settings(pairs, entry.scene, dict(address.DEFAULT_OPTIONS),
+                                                     _controls(entry))
+    return scene, options, problems + refused
+
+
+@pytest.mark.parametrize("entry", [e for e in REAL if e.ok], ids=lambda e: e.path.stem)
+def test_a_lesson_as_it_opens_has_only_its_name_in_the_address(entry):
+    query = address.ViewAddress().query(entry, entry.scene, dict(address.DEFAULT_OPTIONS), _controls(entry))
+    assert query == address.query_for(entry), query
+
+
+CHANGES = [
+    ("material__ks__level", 0.8), ("interpolation", "gouraud"), ("lights_1__azimuth", 40.0),
+    ("lights_1__type", "spot"), ("lights_1__color", "#ffe0c0"), ("lights_1__exponent", 12.5),
+    ("camera__azimuth", 31.7), ("camera__distance", 7.25), ("exposure", 1.5), ("display", "linear"),
+    ("view__term", "specular"), ("view__mistake", True), ("material__shininess__log", 2.0),
+]
+
+
+def test_the_address_carries_every_changed_setting_and_reopens_the_same_view():
+    scene, options, controls = _change(SPECULAR, CHANGES)
+    query = address.ViewAddress().query(SPECULAR, scene, options, controls)
+    # readable: field paths and short values
+    for part in ("lesson=04-specular", "material.ks=0.8", "interpolation=gouraud", "lights[1].type=spot",
+                 "lights[1].color=ffe0c0", "camera.azimuth=31.7", "camera.distance=7.25", "view.term=specular",
+                 "view.mistake=true", "material.shininess=100", "display=linear", "exposure=1.5"):
+        assert part in query.split("?")[1].split("&"), (part, query)
+    reopened, reopened_options, problems = _open(SPECULAR, query)
+    assert problems == [], (query, problems)
+    assert reopened_options == options, (query, reopened_options, options)
+    # the same scene, to the address's rounding
+    controls = _controls(SPECULAR)
+    controls.update(reopened)  # the tab's controls follow its scene (a spot light now)
+    again = address.ViewAddress().query(SPECULAR, reopened, reopened_options, controls)
+    assert again == query
+    a, b = scene_to_dict(scene), scene_to_dict(reopened)
+    for name in ("material", "model", "interpolation", "display", "exposure"):
+        assert a[name] == b[name], (name, a[name], b[name])
+    assert a["lights"][1]["position"] == pytest.approx(b["lights"][1]["position"], abs=1e-4), query
+    assert a["camera"]["eye"] == pytest.approx(b["camera"]["eye"], abs=1e-3), query
+
+
+def test_back_to_the_lesson_values_drops_them_from_the_address():
+    scene, options, controls = _change(SPECULAR, [("material__ks__level", 0.8), ("material__ks__level", 0.6),
+                                                  ("view__term", "diffuse"), ("view__term", "color")])
+    assert address.ViewAddress().query(SPECULAR, scene, options, controls) == "?lesson=04-specular"
+
+
+def test_a_retyped_light_is_written_as_its_type_and_what_changed_after():
+    scene, options, controls = _change(SPECULAR, [("lights_1__type", "spot")])
+    query = address.ViewAddress().query(SPECULAR, scene, options, controls)
+    assert query == "?lesson=04-specular&lights[1].type=spot", query
+    scene, options, controls = _change(SPECULAR, [("lights_1__type", "spot"), ("lights_1__cutoff", 40.0),
+                                                  ("lights_1__azimuth", 10.0)])
+    view = address.ViewAddress()
+    query = view.query(SPECULAR, scene, options, controls)
+    assert "lights[1].type=spot" in query and "lights[1].cutoff=40" in query, query
+    assert "no_cone" not in query and "exponent" not in query, query
+    reopened, reopened_options, problems = _open(SPECULAR, query)
+    assert not problems, (query, problems)
+    a, b = scene_to_dict(scene)["lights"][1], scene_to_dict(reopened)["lights"][1]
+    assert a.keys() == b.keys(), (a, b)
+    for name in a:
+        assert a[name] == (pytest.approx(b[name], abs=1e-4) if name in ("position", "direction") else b[name]), (name, a, b)
+    # the same address object, back to the lesson's light: the type goes away again
+    controls.update(SPECULAR.scene)
+    assert view.query(SPECULAR, SPECULAR.scene, dict(address.DEFAULT_OPTIONS), controls) == "?lesson=04-specular"
+
+
+@pytest.mark.parametrize("x, decimals, text", [
+    (0.8, 3, "0.8"), (0.8000000000000002, 3, "0.8"), (30.0, 4, "30"), (-0.00001, 4, "0"), (31.66, 1, "31.7"),
+    (2.31760368, 4, "2.3176"), (-12.0, 1, "-12"),
+])
+def test_numbers_are_written_compactly(x, decimals, text):
+    assert address.compact_number(x, decimals) == text, (x, decimals)
+
+
+def _sliders(entry):
+    return [c for c in _controls(entry).widgets if c.kind == "slider"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.data())
+def test_any_slider_position_comes_back_from_the_address(data):
+    control = data.draw(st.sampled_from(_sliders(SPECULAR)), label="slider")
+    steps = int(round((control.high - control.low) / control.step))
+    value = control.low + control.step * data.draw(st.integers(0, steps), label="steps")
+    try:
+        scene, options, controls = _change(SPECULAR, [(control.key, value)])
+    except ControlError:  # a value the page refuses too (attenuation all zero)
+        assume(False)
+    query = address.ViewAddress().query(SPECULAR, scene, options, controls)
+    reopened, reopened_options, problems = _open(SPECULAR, query)
+    assert not problems, (control.path, value, query, problems)
+    back = _controls(SPECULAR).by_key[control.key].read(reopened, reopened_options)
+    shown = control.read(scene, options)
+    if control.path.endswith("azimuth"):  # -180° and 180° are the same place
+        back = shown + ((back - shown + 180.0) % 360.0 - 180.0)
+    assert control.same(back, shown), (control.path, value, shown, back, query)
+
+
+@pytest.mark.parametrize("setting, words", [
+    ("material.ks=-1", ["material.ks", "-1"]),
+    ("interpolation=banana", ["interpolation", "must be one of flat, gouraud, pixel", "banana"]),
+    ("camera.azimuth=400", ["camera.azimuth", "between -180 and 180", "400"]),
+    ("camera.azimuth=nan", ["camera.azimuth", "must be a number", "nan"]),
+    ("lights[1].color=zzz", ["lights[1].color", "#rrggbb", "zzz"]),
+    ("view.mistake=maybe", ["view.mistake", "true or false", "maybe"]),
+    ("material.kd=1,2,3,4,5", ["material.kd"]),
+    ("lights[7].intensity=1", ["unknown setting 'lights[7].intensity'"]),
+    ("colour=red", ["unknown setting 'colour'"]),
+    ("lesson.x=1", ["unknown setting 'lesson.x'"]),
+    ("material.ks=" + "1" * 300, ["material.ks", "at most 200 characters"]),
+], ids=lambda x: x[:30] if isinstance(x, str) else "")
+def test_a_bad_setting_is_dropped_with_a_notice_and_the_rest_applies(setting, words):
+    query = f"?lesson=04-specular&interpolation=gouraud&{setting}&material.shininess=10"
+    scene, options, problems = _open(SPECULAR, query)
+    assert len(problems) == 1, (query, problems)
+    for word in words:
+        assert word in problems[0], (query, word, problems)
+    assert scene.interpolation == "gouraud" and scene.material.shininess == 10, (query, problems)
+    assert "material.ks" not in setting or scene.material.ks == SPECULAR.scene.material.ks
+    assert options == address.DEFAULT_OPTIONS or "view" not in setting
+
+
+def test_the_address_is_bounded():
+    many = "?lesson=04-specular&" + "&".join(["exposure=1.5"] * (address.MAX_SETTINGS + 10))
+    scene, _, problems = _open(SPECULAR, many)
+    assert scene.exposure == 1.5 and any(f"first {address.MAX_SETTINGS} settings" in p for p in problems), problems
+    pairs, problems = address.read_query("?" + "x" * (address.MAX_QUERY_CHARS + 1))
+    assert pairs == [] and "at most" in problems[0], problems
+    pairs, problems = address.read_query("?" + "k" * 100 + "=1")
+    assert pairs == [] and "unknown setting" in problems[0], problems
+    assert address.read_query(None) == ([], []) and address.read_query(42)[0] == []
+
+
+def test_the_notice_is_one_line():
+    _, _, problems = _open(SPECULAR, "?interpolation=banana&colour=red")
+    text = address.notice(problems)
+    assert "\n" not in text and "banana" in text and "colour" in text, text
+
+
+@pytest.fixture
+def make_app(tmp_path):
+    """LessonApp tabs on the test lessons (no browser), closed at the end."""
+    from trame.app import get_server
+
+    from phonglab.app.lesson_app import LessonApp
+    from phonglab.bench.scenes import write_lessons
+
+    (tmp_path / "lessons").mkdir()
+    folder = write_lessons(tmp_path / "lessons", ["01-sphere.md", "02-spot.md"])
+    apps = []
+
+    def make():
+        server = get_server(f"address-{tmp_path.name}-{len(apps)}", client_type="vue3")
+        apps.append(LessonApp(server, target=folder))
+        return apps[-1]
+
+    yield make
+    for app in apps:
+        app.close()
+
+
+def test_a_tab_writes_its_settings_and_another_tab_opens_them(make_app):
+    app = make_app()
+    assert app.state[address.QUERY_KEY] == "?lesson=01-sphere"
+    app._on_control("material__ks__level", 0.8)
+    app._on_control("interpolation", "flat")
+    app._on_control("view__term", "specular")
+    query = app.state[address.QUERY_KEY]
+    assert sorted(query[1:].split("&")) == ["interpolation=flat", "lesson=01-sphere", "material.ks=0.8",
+                                            "view.term=specular"], query
+    # the query as the next page sends it
+    other = make_app()
+    other.state[address.REQUEST_KEY] = query
+    other._on_address()
+    assert other.scene == app.scene and other.options == app.options, query
+    assert other.state[address.QUERY_KEY] == query and other.state.notice is None, other.state.notice
+    assert other.state.readout == app.state.readout
+    # a bad value: one notice, the lesson opens (lesson 2 here) and the rest applies
+    other.state[address.REQUEST_KEY] = "?lesson=02-spot&lights[1].exponent=-3&lights[1].cutoff=40"
+    other._on_address()
+    assert other.entry.path.stem == "02-spot" and other.scene.lights[1].cutoff == 40
+    text = other.state.notice["text"]
+    assert "lights[1].exponent" in text and "-3" in text and "between 0 and 128" in text, text
+    assert other.state[address.QUERY_KEY] == "?lesson=02-spot&lights[1].cutoff=40"
+
+
+def test_the_address_written_stays_within_the_bounds_it_is_read_with(monkeypatch):
+    scene, options, controls = _change(SPECULAR, CHANGES)
+    monkeypatch.setattr(address, "MAX_QUERY_CHARS", 80)
+    query = address.ViewAddress().query(SPECULAR, scene, options, controls)
+    assert len(query) <= 80 and query.startswith("?lesson=04-specular&lights[1].type=spot"), query
+    assert address.read_query(query)[1] == [], query

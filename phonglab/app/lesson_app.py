@@ -114,6 +114,7 @@ class LessonApp(TrameApp):
         self._view_ms = 0.0
         self._camera_moved = False
         self._cameras = eye.Latest(self._apply_camera)  # the browser's newest camera, shaded when free
+        self.address = address.ViewAddress()  # the settings in the page's address
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
         self.accuracy = AccuracyPanel(self.state, self.notify)
@@ -363,7 +364,9 @@ class LessonApp(TrameApp):
         self.accuracy.follow(scene)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)
-        self._sync_control_values()
+        values = self._sync_control_values()
+        # the address bar: the lesson and the settings that differ from the lesson's
+        s[address.QUERY_KEY] = self.address.query(self.entry, scene, self.options, self.controls, values)
         if rebuilt:
             s.control_labels = {c.key: text.inline(c.label) for c in self.controls.widgets}
             page.build_controls(self.server, self.controls.chosen, self.controls.widgets)
@@ -372,10 +375,11 @@ class LessonApp(TrameApp):
                     self._watched.add(key)
                     s.change(key)(self._watcher(key))
 
-    def _sync_control_values(self) -> None:
-        """Write every control's value for the current scene into the state."""
+    def _sync_control_values(self) -> dict:
+        """Write every control's value for the current scene into the state; returns them (state key -> value)."""
         shown = {}
-        for key, value in self.controls.values(self.scene, self.options).items():
+        values = self.controls.values(self.scene, self.options)
+        for key, value in values.items():
             control = self.controls.by_key[key]
             # never echo a browser's own value back with rounding noise: a slider
             # being dragged would jump back to an older position
@@ -385,6 +389,7 @@ class LessonApp(TrameApp):
                 shown[key] = format_value(control, value)
         if shown != self.state.control_values:
             self.state.control_values = shown
+        return values
 
     # ------------------------------------------------------------------
     # browser input
@@ -567,12 +572,32 @@ class LessonApp(TrameApp):
             self.notify("error", f"Export failed: {exc}")
 
     def _on_address(self, **_) -> None:
-        """The page was opened with an address: open the lesson it names (a bad one gives a notice)."""
-        index, problem = address.lesson_index(self.state[address.REQUEST_KEY], self.entries)
+        """The page was opened with an address: open the lesson it names, then apply its settings.
+
+        A bad lesson name, a refused value or an unknown key gives a notice; the rest applies.
+        """
+        query = self.state[address.REQUEST_KEY]
+        index, problem = address.lesson_index(query, self.entries)
         if problem:
             self.notify("warning", problem)
-        elif index is not None and index != self.index:
+            return
+        if index is not None and index != self.index:
             self.open_lesson(index)
+        self._apply_address(query)
+
+    @_guarded
+    def _apply_address(self, query) -> None:
+        """Apply the settings of an address to the open lesson, each checked by the page's own control."""
+        pairs, problems = address.read_query(query)
+        if pairs and self.scene is not None and self.entry is not None and self.entry.ok:
+            scratch = ctl.ControlSet(self.controls.frame, self.controls.lesson_paths, self.controls.extra)
+            scene, options, refused = address.apply_settings(pairs, self.scene, self.options, scratch)
+            problems += refused
+            if scene is not self.scene or options != self.options:
+                self.options = options
+                self._show_scene(scene)
+        if problems:
+            self.notify("warning", address.notice(problems))
 
     def _open_from_list(self, index=None, *_, **__):
         """A lesson picked in the list: close the list and open it."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 import re
 
+import pytest
 from PIL import Image
 
 
@@ -38,34 +39,75 @@ def _lesson_title(page) -> str:
     return page.locator(".phonglab-lesson-title").first.inner_text()
 
 
-def test_the_address_carries_the_lesson_through_reload_and_a_fresh_tab(app_page, browser, server):
+def _address(page) -> str:
+    """The tab's address now (``page.url`` follows ``replaceState`` only when Playwright next hears from the page)."""
+    return page.evaluate("() => window.location.href")
+
+
+SPOT = "A spotlight on a floor"
+
+
+def _settled_view(tab, title, ks, interpolation):
+    """Wait until ``tab`` shows lesson ``title`` with k_s = ``ks`` and ``interpolation``; its slider text and readout."""
+    from waiting import wait_for
+
+    tab.page.wait_for_function(
+        "(t) => { const e = document.querySelector('.phonglab-lesson-title');"
+        " return window.trame && window.trame.state && e && e.innerText.endsWith(t); }", arg=title, timeout=60_000)
+    wait_for(lambda: tab.state("material__ks__level") == pytest.approx(ks)
+             and tab.state("interpolation") == interpolation,
+             f"k_s = {ks} and {interpolation} on the page, got {tab.state('material__ks__level')!r}, "
+             f"{tab.state('interpolation')!r}", timeout=60)
+    wait_for(lambda: tab.state("readout"), "the readout")
+    return tab.state("control_values")["material__ks__level"], tab.readout()
+
+
+def test_the_address_carries_the_lesson_and_its_settings_through_reload_and_a_fresh_tab(app_page, browser, server):
     from waiting import wait_for
 
     page = app_page.page
-    wait_for(lambda: page.url.endswith("?lesson=01-sphere"), f"the address of lesson 1, got {page.url}")
-    app_page.open_lesson("A spotlight on a floor")
-    wait_for(lambda: page.url.endswith("?lesson=02-spot"), f"the address of lesson 2, got {page.url}")
-    link = page.url
-    # a reload keeps the lesson
+    history = page.evaluate("() => window.history.length")
+    wait_for(lambda: _address(page).endswith("?lesson=01-sphere"), "the address of lesson 1")
+    app_page.open_lesson(SPOT)
+    wait_for(lambda: _address(page).endswith("?lesson=02-spot"), "the address of lesson 2")
+    # the address follows the student's work: only the settings that differ from the lesson's
+    app_page.set_state("material__ks__level", "0.8")
+    app_page.set_state("interpolation", "'flat'")
+    link = wait_for(lambda: ("interpolation=flat" in _address(page) and "material.ks=0.8" in _address(page)
+                             and _address(page)), "the settings in the address")
+    assert link.startswith(server["url"]) and "?lesson=02-spot&" in link, link
+    assert sorted(link.split("?")[1].split("&")) == ["interpolation=flat", "lesson=02-spot", "material.ks=0.8"], link
+    shown, readout = _settled_view(app_page, SPOT, 0.8, "flat")
+    assert shown == "0.80", shown
+    # replaceState only: the tab's history did not grow
+    assert page.evaluate("() => window.history.length") == history, (history, page.evaluate("() => window.history.length"))
+    # a reload shows the same lesson and values, on the page and in the readout
     page.reload()
-    page.wait_for_function(
-        "() => { const e = document.querySelector('.phonglab-lesson-title'); return e && e.innerText.endsWith('A spotlight on a floor'); }",
-        timeout=60_000)
-    assert page.url == link, page.url
-    # the link pasted into a fresh tab (its own session) opens the same lesson
+    assert _settled_view(app_page, SPOT, 0.8, "flat") == (shown, readout), link
+    assert _address(page) == link, _address(page)
+    # the link pasted into a fresh tab (its own session) opens the same view
     context = browser.new_context(viewport={"width": 1280, "height": 800})
     try:
-        other = context.new_page()
-        other.goto(link)
-        other.wait_for_function(
-            "() => { const e = document.querySelector('.phonglab-lesson-title'); return e && e.innerText.endsWith('A spotlight on a floor'); }",
-            timeout=60_000)
+        other = type(app_page)(context.new_page(), server)  # the fixture's tab helper
+        other.page.goto(link)
+        assert _settled_view(other, SPOT, 0.8, "flat") == (shown, readout), link
+        # a bad value is dropped with a notice naming it; the lesson opens and the rest applies
+        other.page.goto(server["url"] + "?lesson=02-spot&lights[1].exponent=-3&lights[1].cutoff=40&colour=red")
+        other.page.wait_for_selector(".phonglab-notice", timeout=60_000)
+        notice = other.text(".phonglab-notice")
+        assert "lights[1].exponent" in notice and "-3" in notice and "between 0 and 128" in notice, notice
+        assert "unknown setting 'colour'" in notice, notice
+        assert _lesson_title(other.page).endswith(SPOT), _lesson_title(other.page)
+        wait_for(lambda: other.state("lights_1__cutoff") == 40, "the good setting to apply")
+        wait_for(lambda: _address(other.page).endswith("?lesson=02-spot&lights[1].cutoff=40"),
+                 "the address without the dropped settings")
         # a bad lesson name is refused with a notice; the page stays usable on its first lesson
-        other.goto(server["url"] + "?lesson=no-such-lesson")
-        other.wait_for_selector(".phonglab-notice", timeout=60_000)
-        notice = other.locator(".phonglab-notice").first.inner_text()
+        other.page.goto(server["url"] + "?lesson=no-such-lesson")
+        other.page.wait_for_selector(".phonglab-notice", timeout=60_000)
+        notice = other.text(".phonglab-notice")
         assert "no lesson 'no-such-lesson'" in notice, notice
-        assert _lesson_title(other).endswith("A red sphere"), _lesson_title(other)
+        assert _lesson_title(other.page).endswith("A red sphere"), _lesson_title(other.page)
+        assert not other.errors, other.errors
     finally:
         context.close()
 
@@ -84,6 +126,9 @@ def test_after_a_server_restart_the_tab_comes_back_to_the_same_lesson(browser, l
         title = ("() => { const e = document.querySelector('.phonglab-lesson-title');"
                  " return e && e.innerText.endsWith('A spotlight on a floor'); }")
         page.wait_for_function(title, timeout=60_000)
+        # the student narrows the cone; the address follows
+        page.evaluate("() => window.trame.state.set('lights_1__cutoff', 12)")
+        page.wait_for_function("() => window.location.search.includes('cutoff=12')", timeout=30_000)
         stop_server(process)
         # the page says it is reconnecting ...
         page.wait_for_selector(".phonglab-reconnecting", state="visible", timeout=30_000)
@@ -93,7 +138,9 @@ def test_after_a_server_restart_the_tab_comes_back_to_the_same_lesson(browser, l
         wait_until_serving(process, port, log_path=tmp_path / "second.log")
         page.wait_for_function(title, timeout=60_000)
         page.wait_for_selector(".phonglab-reconnecting", state="detached", timeout=30_000)
-        assert page.url.endswith("?lesson=02-spot"), page.url
+        assert _address(page).endswith("?lesson=02-spot&lights[1].cutoff=12"), _address(page)
+        page.wait_for_function("() => window.trame.state.get('lights_1__cutoff') === 12", timeout=30_000)
+        assert page.evaluate("() => window.trame.state.get('control_values')['lights_1__cutoff']") == "12°"
     finally:
         context.close()
         stop_server(process)

@@ -144,21 +144,41 @@ window.phonglab = {
       },
       template: "<div style='display:none'></div>",
     });
-    // <phonglab-address :query="url_query"> writes the server's query of the view into
-    // the address bar (history.replaceState) and, once, sends the query the page was
-    // opened with to the server (url_request), which checks it and opens that lesson.
+    // <phonglab-address :query="url_query"> writes the server's query of the view (the
+    // lesson and the settings that differ from it) into the address bar with
+    // history.replaceState, ADDRESS_DELAY ms after the last change (no history entry, no
+    // flood while a slider moves; at once when the page is left), and, once, sends the
+    // query the page was opened with to the server (url_request), which checks it, opens
+    // that lesson and applies its settings.
+    const ADDRESS_DELAY = 250;
     app.component("phonglab-address", {
       props: { query: { type: String, default: "" } },
       mounted() {
+        this.pending = null;
+        this.timer = null;
+        this.write = () => {
+          clearTimeout(this.timer);
+          this.timer = null;
+          const value = this.pending;
+          this.pending = null;
+          if (value && value !== window.location.search) {
+            window.history.replaceState(window.history.state, "", window.location.pathname + value + window.location.hash);
+          }
+        };
+        window.addEventListener("pagehide", this.write);
         const asked = window.location.search;
         if (asked && window.trame && window.trame.state) window.trame.state.set("url_request", asked);
-        else if (this.query) window.history.replaceState(null, "", window.location.pathname + this.query);
+        else if (this.query) window.history.replaceState(window.history.state, "", window.location.pathname + this.query);
+      },
+      unmounted() {
+        window.removeEventListener("pagehide", this.write);
+        clearTimeout(this.timer);
       },
       watch: {
         query(value) {
-          if (value && value !== window.location.search) {
-            window.history.replaceState(null, "", window.location.pathname + value + window.location.hash);
-          }
+          this.pending = value;
+          clearTimeout(this.timer);
+          this.timer = setTimeout(this.write, ADDRESS_DELAY);
         },
       },
       template: "<div style='display:none'></div>",
