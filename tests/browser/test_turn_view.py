@@ -235,7 +235,8 @@ def test_dragging_the_view_moves_the_eye_in_picture_and_numbers(browser, lesson4
 
         found = wait_for(close_enough, f"the view's specular picture ({mode}) to match the server's render "
                          f"(last: {last})", timeout=60)
-        _, image, turned, size = found
+        difference, image, turned, size = found
+        print(f"{mode}: browser picture against the server's render: {difference}")  # shown with pytest -s
         assert turned.camera.eye != pytest.approx(scene.camera.eye, abs=0.05), f"the drag did not turn: {turned.camera}"
         # r·v on the page is the core's, for the browser's camera as the eye
         readout = page.readout()
