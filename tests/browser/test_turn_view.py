@@ -10,9 +10,10 @@ mode it is the server's image over the view. The stale picture (flat and
 Gouraud: colours baked for the old eye and turned with the mesh; per pixel:
 the image for the old camera) must fail the same tolerance.
 
-The arrows carry their letters N, L, R, V, H in every mode: each letter is
-inside the view, shown, next to its arrow's tip, and on top (not covered by
-the per-pixel image).
+The arrows carry their letters N, L, R, V, H in every mode, before and after
+the turn: each letter is inside the view, shown, next to its arrow's tip, and
+on top (not covered by the per-pixel image); in per-pixel mode the tips the
+letters follow are where the server's image draws them (within 2 px).
 """
 
 from __future__ import annotations
@@ -179,6 +180,8 @@ def _lesson4_page(browser, server, mode):
 
 
 CAMERA_JS = "() => window.phonglabView.renderer.getActiveCamera().getPosition()"
+CAMERA_STATE_JS = """() => { const c = window.phonglabView.renderer.getActiveCamera();
+  return { position: c.getPosition(), focalPoint: c.getFocalPoint(), viewUp: c.getViewUp(), viewAngle: c.getViewAngle() }; }"""
 
 
 def _drag(page, tries: int = 3):
@@ -210,8 +213,8 @@ def _drag(page, tries: int = 3):
 def test_dragging_the_view_moves_the_eye_in_picture_and_numbers(browser, lesson4_server, mode, tmp_path):
     context, page = _lesson4_page(browser, lesson4_server, mode)
     try:
-        _check_letters(page, mode, tmp_path / f"letters-{mode}.png")
         scene = load_lesson(LESSON).scene.replace("interpolation", mode)
+        _check_letters(page, mode, tmp_path / f"letters-{mode}.png", scene)
         before = page.readout()
         page.set_state("view__term", "'specular'")
         page.wait_settled()
@@ -249,17 +252,29 @@ def test_dragging_the_view_moves_the_eye_in_picture_and_numbers(browser, lesson4
         stale = _server_render(scene, size) if mode == "pixel" else _server_render(turned, size, lit_by=scene)
         assert not image_difference(image, stale).within(), \
             f"{mode}: the stale picture passes too: {image_difference(image, stale)}"
-        _check_letters(page, mode, tmp_path / f"letters-{mode}-turned.png")  # the letters follow the camera
+        _check_letters(page, mode, tmp_path / f"letters-{mode}-turned.png", scene)  # they follow the camera
         assert not page.errors, page.errors
     finally:
         context.close()
 
 
-def _check_letters(page, mode, shot):
+def _image_tips(scene, camera, size):
+    """Where the server's image puts each arrow's tip (image pixels) for the browser's ``camera``."""
+    turned = scene_camera(scene, camera)
+    view = SceneView(turned, size=size, labels=False, vtk_text=False)
+    try:
+        view.update(turned, keep_view_angle=True)
+        return {letter: tip for letter, (tip, _) in view.vector_marks().items()}
+    finally:
+        view.close()
+
+
+def _check_letters(page, mode, shot, scene):
     """Every arrow of lesson 4 has its letter: shown, inside the view, on top and next to its tip.
 
     In per-pixel mode the server's image must be the view's size first (an
-    image of another size is scaled, and its arrows leave the letters).
+    image of another size is scaled, and its arrows leave the letters), and
+    the tips the letters follow are where the image draws them.
     """
     expected = sorted(t["letter"] for t in page.state("arrow_tips"))
     assert expected == sorted("NLRVH"), f"lesson 4 shows the arrows {expected}"
@@ -287,3 +302,11 @@ def _check_letters(page, mode, shot):
         tip = found["tips"][e["letter"]]
         gap = float(np.hypot(e["centre"][0] - tip[0], e["centre"][1] - tip[1]))
         assert gap <= LETTER_REACH, f"{gap:.0f} px from its tip {tip}: {where}"
+    if mode == "pixel":  # the letters label the arrows of the picture shown, the server's image
+        camera = page.page.evaluate(CAMERA_STATE_JS)
+        drawn = _image_tips(scene, camera, tuple(found["image"]))
+        assert sorted(drawn) == sorted("NLRVH"), f"the server's image draws the arrows {sorted(drawn)}"
+        for letter, (x, y) in drawn.items():
+            tip = found["tips"][letter]
+            assert np.hypot(left + x - tip[0], top + y - tip[1]) <= 2, \
+                f"{letter}: the image draws its tip at {(left + x, top + y)}, the letter follows {tip} ({shot})"
