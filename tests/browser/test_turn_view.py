@@ -13,7 +13,8 @@ the image for the old camera) must fail the same tolerance.
 The arrows carry their letters N, L, R, V, H in every mode, before and after
 the turn: each letter is inside the view, shown, next to its arrow's tip, and
 on top (not covered by the per-pixel image); in per-pixel mode the tips the
-letters follow are where the server's image draws them (within 2 px).
+letters follow are where the server's image draws them (within 2 px), also in
+a view taller than wide.
 """
 
 from __future__ import annotations
@@ -180,6 +181,9 @@ def _lesson4_page(browser, server, mode):
 
 
 CAMERA_JS = "() => window.phonglabView.renderer.getActiveCamera().getPosition()"
+# the view 380 x 560 pixels, as on a narrow screen (the view angle then spans its width)
+TALL_VIEW_JS = """() => { const v = document.querySelector('.phonglab-view');
+  v.style.flex = '0 0 auto'; v.style.width = '380px'; v.style.height = '560px'; }"""
 CAMERA_STATE_JS = """() => { const c = window.phonglabView.renderer.getActiveCamera();
   return { position: c.getPosition(), focalPoint: c.getFocalPoint(), viewUp: c.getViewUp(), viewAngle: c.getViewAngle() }; }"""
 
@@ -253,6 +257,9 @@ def test_dragging_the_view_moves_the_eye_in_picture_and_numbers(browser, lesson4
         assert not image_difference(image, stale).within(), \
             f"{mode}: the stale picture passes too: {image_difference(image, stale)}"
         _check_letters(page, mode, tmp_path / f"letters-{mode}-turned.png", scene)  # they follow the camera
+        if mode == "pixel":  # a view taller than wide: the browser frames it as the server's image does
+            page.page.evaluate(TALL_VIEW_JS)
+            _check_letters(page, mode, tmp_path / f"letters-{mode}-tall.png", scene)
         assert not page.errors, page.errors
     finally:
         context.close()
