@@ -71,10 +71,14 @@ def sphere_images(file, limits):
     return core, student, mask, failures
 
 
-def picture_png(file, limits) -> tuple[bytes | None, str]:
+def picture_png(file, limits, *, encoding: str = "srgb", exposure: float = 1.0) -> tuple[bytes | None, str]:
     """``student | core | difference`` as PNG bytes, and a note on pixels without a colour.
 
-    Returns ``(None, reason)`` when a limit stopped the student's code before any picture.
+    The two spheres are linear light through the display encoding
+    (:func:`phonglab.accuracy.images.display_image`: exposure, clip, the sRGB
+    curve by default or the raw values with ``encoding="linear"``); the
+    difference is measured on linear light. Returns ``(None, reason)`` when
+    a limit stopped the student's code before any picture.
     """
     import io
 
@@ -82,6 +86,7 @@ def picture_png(file, limits) -> tuple[bytes | None, str]:
     from matplotlib import colormaps
     from PIL import Image, ImageDraw, ImageFont
 
+    from phonglab.accuracy.images import display_image
     from phonglab.teaching.sandbox import LoadError
 
     try:
@@ -91,9 +96,7 @@ def picture_png(file, limits) -> tuple[bytes | None, str]:
     bad = mask & ~np.all(np.isfinite(student), axis=-1)
 
     def to_rgb(image):
-        out = np.round(np.clip(np.nan_to_num(image, nan=0.0), 0, 1) * 255).astype(np.uint8)
-        out[~mask] = (26, 26, 30)
-        return out
+        return display_image(image, mask, background=(26, 26, 30), encoding=encoding, exposure=exposure)
 
     lo, hi = DIFFERENCE_RANGE
     diff = np.max(np.abs(np.nan_to_num(student - core, nan=0.0)), axis=-1)

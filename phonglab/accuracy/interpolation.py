@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from phonglab import core
+from phonglab.accuracy.images import display_image
 from phonglab.accuracy.raycast import View, camera_rays, hit_mesh, hit_sphere
 from phonglab.accuracy.timing import interleaved_times, median_time
 
@@ -283,11 +284,9 @@ def run(resolutions, *, size: int = 128, repeats: int = 3, min_seconds: float = 
 # images for the lesson
 
 
-def _to_uint8(image, mask) -> np.ndarray:
-    rgb = np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0)
-    out = np.round(rgb * 255).astype(np.uint8)
-    out[~mask] = BACKGROUND
-    return out
+def _to_uint8(image, mask, encoding: str = "srgb", exposure: float = 1.0) -> np.ndarray:
+    """Linear radiance as the display shows it (:func:`~phonglab.accuracy.images.display_image`)."""
+    return display_image(image, mask, background=BACKGROUND, encoding=encoding, exposure=exposure)
 
 
 def false_colour(error, mask, *, lo: float = ERROR_RANGE[0], hi: float = ERROR_RANGE[1]) -> np.ndarray:
@@ -328,10 +327,11 @@ class ErrorView:
     method : str
     resolution : int
     render, reference, error : ndarray, (height, width, 3), uint8 RGB
-        The method's image, the exact sphere's image (colours clamped to
-        [0, 1]) and ``max over RGB |render − reference|`` coloured on a log
-        scale over ``error_range`` (see :func:`false_colour`); pixels seen
-        by only one of the two (at the silhouette) or by neither are grey.
+        The method's image, the exact sphere's image (linear colours
+        through the display encoding: exposure, clip, sRGB by default) and
+        ``max over RGB |render − reference|`` coloured on a log scale over
+        ``error_range`` (see :func:`false_colour`); pixels seen by only one
+        of the two (at the silhouette) or by neither are grey.
     error_range : (float, float)
         The errors shown as the darkest and the brightest colour.
     rmse, max_error, highlight_rmse, peak_error : float
@@ -357,7 +357,7 @@ class ErrorView:
 
 
 def error_images(method: str, resolution: int, *, size: int = 256, shininess: float = 200.0,
-                 repeats: int = 3) -> ErrorView:
+                 repeats: int = 3, encoding: str = "srgb", exposure: float = 1.0) -> ErrorView:
     """Render the sphere with one method and compare it with the exact sphere.
 
     Parameters
@@ -372,6 +372,11 @@ def error_images(method: str, resolution: int, *, size: int = 256, shininess: fl
         (lesson 11's front matter).
     repeats : int
         Timed repeats (the median is reported).
+    encoding : {"srgb", "linear"}
+        The display encoding of the render and reference images (a scene's
+        ``display``); the errors are measured on linear light either way.
+    exposure : float > 0
+        The images' exposure (a scene's ``exposure``).
 
     Returns
     -------
@@ -393,6 +398,10 @@ def error_images(method: str, resolution: int, *, size: int = 256, shininess: fl
         setup = default_setup(int(size), shininess)
     except core.InvalidValue:
         raise ValueError(f"shininess: must be a finite number >= 0, got {shininess!r}") from None
+    if encoding not in ("srgb", "linear"):
+        raise ValueError(f"encoding: must be srgb or linear, got {encoding!r}")
+    if isinstance(exposure, bool) or not isinstance(exposure, (int, float)) or not 0 < exposure < math.inf:
+        raise ValueError(f"exposure: must be a finite number > 0, got {exposure!r}")
     ref = reference(setup, repeats=repeats)
     prep = prepare(setup, int(resolution))
     row, image = measure(setup, ref, prep, method, repeats=repeats)
@@ -401,8 +410,8 @@ def error_images(method: str, resolution: int, *, size: int = 256, shininess: fl
     return ErrorView(
         method=method,
         resolution=int(resolution),
-        render=_to_uint8(image, prep.mask),
-        reference=_to_uint8(ref.color, ref.mask),
+        render=_to_uint8(image, prep.mask, encoding, exposure),
+        reference=_to_uint8(ref.color, ref.mask, encoding, exposure),
         error=false_colour(diff, both),
         error_range=ERROR_RANGE,
         rmse=row["rmse"],

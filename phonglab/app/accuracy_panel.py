@@ -124,27 +124,33 @@ def _milliseconds(seconds: float) -> str:
     return f"{seconds * 1000:.3g} ms"
 
 
-def error_panel(method: str, resolution: int, shininess: float) -> dict:
+def error_panel(method: str, resolution: int, shininess: float, display: str = "srgb",
+                exposure: float = 1.0) -> dict:
     """The error images and figures for one pick, ready for the page.
 
     Returns
     -------
     dict
-        ``method``, ``resolution``, ``shininess`` (the request), the data
+        ``method``, ``resolution``, ``shininess``, ``display``, ``exposure`` (the request), the data
         URLs ``render``, ``reference``, ``error`` and ``scale`` (the scale
         bar), ``scale_labels`` (the errors at the bar's ticks) and
         ``figures``: a list of ``{"name", "value", "title"}`` (RMSE, max
         error, peak error, highlight RMSE, time, the exact sphere's time).
+        The render and reference images are encoded for the display as the
+        scene's ``display`` and ``exposure`` say (sRGB by default).
     """
     from phonglab.accuracy import error_images, error_scale_bar
 
-    view = error_images(method, int(resolution), size=IMAGE_SIZE, shininess=float(shininess))
+    view = error_images(method, int(resolution), size=IMAGE_SIZE, shininess=float(shininess),
+                        encoding=display, exposure=float(exposure))
     lo, hi = view.error_range
     decades = round(math.log10(hi / lo))
     return {
         "method": method,
         "resolution": int(resolution),
         "shininess": float(shininess),
+        "display": display,
+        "exposure": float(exposure),
         "render": png_data_url(view.render),
         "reference": png_data_url(view.reference),
         "error": png_data_url(view.error),
@@ -277,7 +283,8 @@ class AccuracyPanel:
         self._scene_pick = None  # the scene's (interpolation, resolution) last seen
         self._pick = DEFAULT_PICK  # the picker's last good (method, resolution)
         self._shininess = None
-        self._wanted = None  # (method, resolution, shininess) the page should show
+        self._display = ("srgb", 1.0)  # the scene's display encoding and exposure, for the images
+        self._wanted = None  # (method, resolution, shininess, display, exposure) the page should show
         self._running = None  # the request being computed
         self._tasks = set()
         self._closed = False
@@ -314,6 +321,7 @@ class AccuracyPanel:
             if pick is not None or self._wanted is None:
                 self.state.accuracy_method, self.state.accuracy_resolution = pick or DEFAULT_PICK
         self._shininess = float(scene.material.shininess)
+        self._display = (scene.display, float(scene.exposure))
         self._request()
 
     # -- the picker
@@ -341,7 +349,8 @@ class AccuracyPanel:
         except ValueError:
             return  # refused by _on_pick, which puts the previous value back
         self._pick = (method, resolution)
-        wanted = (method, resolution, self._shininess if self._shininess is not None else 200.0)
+        wanted = (method, resolution, self._shininess if self._shininess is not None else 200.0,
+                  *self._display)
         if wanted == self._wanted:
             return
         self._wanted = wanted

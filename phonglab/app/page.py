@@ -246,7 +246,7 @@ class _Page:
                                "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.view:
                     ColorPush(push=("view_colors",))
-                    ArrowLetters(tips=("arrow_tips", []), hidden=("pixel_mode",))
+                    ArrowLetters(tips=("arrow_tips", []))  # in every mode, over the pixel image too
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     html.Img(src=("pixel_src",), alt="per-pixel shading by the core")

@@ -100,6 +100,13 @@ window.phonglab = {
           const canvas = this.host.querySelector("canvas");
           if (!renderer || !canvas) return;
           const camera = renderer.getActiveCamera();
+          // the view angle spans the view's shorter side, as in the server's images (SceneView), so a
+          // view taller than wide frames the scene as the per-pixel image does and the letters meet its arrows
+          const horizontal = canvas.clientWidth < canvas.clientHeight;
+          if (camera.getUseHorizontalViewAngle() !== horizontal) {
+            camera.setUseHorizontalViewAngle(horizontal);
+            if (view.renderWindow) view.renderWindow.render();
+          }
           const key = `${camera.getMTime()} ${canvas.clientWidth} ${canvas.clientHeight} ${canvas.offsetLeft} ${canvas.offsetTop}`;
           if (key === this.seen) return;
           this.seen = key;
