@@ -43,8 +43,6 @@ METHODS = (("flat", "Flat"), ("gouraud", "Gouraud"), ("pixel", "Per pixel"))
 RESOLUTIONS = (8, 16, 32, 64, 128)
 #: the pick shown first when the lesson's own scene is not one of the choices
 DEFAULT_PICK = ("gouraud", 16)
-#: worker processes shared by every tab of the server
-WORKERS = 2
 #: the longest wait for a result before the page says it failed (seconds)
 TIMEOUT = 180.0
 #: size of the error images in pixels (width = height)
