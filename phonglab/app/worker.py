@@ -7,7 +7,7 @@ would hold every other tab's page still. They run here instead:
 
 * in a small pool of :data:`WORKERS` worker processes shared by every tab,
   started (spawned, not forked: the server holds threads and OpenGL
-  contexts) on the first job. VTK's OpenGL contexts belong to the thread
+  contexts) on the first job, in a thread of their own. VTK's OpenGL contexts belong to the thread
   that made them, so a worker makes its own; what travels is the frozen
   :class:`~phonglab.scene.Scene` (pickled) and the bytes of the result;
 * at a lower CPU priority (``nice`` +:data:`NICE`): on a machine with few
@@ -54,6 +54,9 @@ SHUTDOWN_WAIT = 2.0
 _lock = threading.Lock()
 _pool = None
 _pending = 0
+_starting = False  # the pool is being started in a thread
+_generation = 0  # counts shutdowns: a pool started before one is not used
+_waiting = []  # (function, args, future) submitted while it starts
 
 
 class WorkerError(RuntimeError):
@@ -94,7 +97,42 @@ def _call(function, args):
 def _finished(_future) -> None:
     global _pending
     with _lock:
-        _pending -= 1
+        _pending = max(0, _pending - 1)
+
+
+def _start_pool(generation: int) -> None:
+    """Start the workers and hand them the jobs that waited.
+
+    Run in a thread: spawning the workers would hold the event loop for a
+    tenth of a second or more.
+    """
+    global _pool, _starting
+    try:
+        pool = multiprocessing.get_context("spawn").Pool(WORKERS, initializer=_start_worker)
+    except Exception as exc:  # noqa: BLE001 - every waiting job fails with it
+        with _lock:
+            waiting = []
+            if generation == _generation:
+                waiting, _waiting[:], _starting = list(_waiting), [], False
+        for _, _, future in waiting:
+            future.set_exception(exc)
+        return
+    with _lock:
+        wanted = generation == _generation  # False: shut down meanwhile
+        if wanted:
+            _pool, _starting = pool, False
+            for function, args, future in _waiting:
+                _apply(pool, function, args, future)
+            _waiting.clear()
+    if wanted:
+        # any process that started workers stops them before it exits, not in Pool.__del__
+        atexit.register(shutdown)
+    else:
+        pool.terminate()
+
+
+def _apply(pool, function, args, future) -> None:
+    pool.apply_async(_call, (function, args), callback=future.set_result, error_callback=future.set_exception)
 
 
 def submit(function, *args, limit: int | None = MAX_PENDING) -> concurrent.futures.Future:
@@ -108,26 +146,29 @@ def submit(function, *args, limit: int | None = MAX_PENDING) -> concurrent.futur
     ServerBusy
         When ``limit`` jobs (None: no limit) are already queued or running.
     """
-    global _pool, _pending
+    global _pending, _starting
     future = concurrent.futures.Future()
     future.set_running_or_notify_cancel()
     with _lock:
         if limit is not None and _pending >= limit:
             raise ServerBusy(f"the server is busy with {_pending} figures and studies; try again in a moment")
-        if _pool is None:
-            _pool = multiprocessing.get_context("spawn").Pool(WORKERS, initializer=_start_worker)
-            # any process that started workers stops them before it exits, not in Pool.__del__
-            atexit.register(shutdown)
         _pending += 1
         future.add_done_callback(_finished)
-        _pool.apply_async(_call, (function, args), callback=future.set_result, error_callback=future.set_exception)
+        if _pool is not None:
+            _apply(_pool, function, args, future)
+            return future
+        _waiting.append((function, args, future))
+        if not _starting:
+            _starting = True
+            threading.Thread(target=_start_pool, args=(_generation,), name="phonglab-worker-start",
+                             daemon=True).start()
     return future
 
 
 def started() -> bool:
     """Whether the worker processes are running (they start with the first job)."""
     with _lock:
-        return _pool is not None
+        return _pool is not None or _starting
 
 
 def pending() -> int:
@@ -145,9 +186,13 @@ def shutdown() -> None:
     outright and the pool's own clean-up gets :data:`SHUTDOWN_WAIT` seconds
     in a daemon thread: stopping the server never hangs.
     """
-    global _pool, _pending
+    global _pool, _pending, _starting, _generation
     with _lock:
-        pool, _pool, _pending = _pool, None, 0
+        pool, _pool, _pending, _starting = _pool, None, 0, False
+        _generation += 1
+        waiting, _waiting[:] = list(_waiting), []
+    for _, _, future in waiting:
+        future.set_exception(RuntimeError("the server is stopping"))
     if pool is None:
         return
     for worker in list(getattr(pool, "_pool", ())):
