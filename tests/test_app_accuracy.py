@@ -187,4 +187,6 @@ def test_the_worker_processes_run_the_work_and_stop():
             failing.result(timeout=60)
     finally:
         panel.shutdown()
-    assert panel._pool is None
+    from phonglab.app import worker
+
+    assert not worker.started()

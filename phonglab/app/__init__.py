@@ -73,5 +73,5 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None,
         server = SessionServer(build, allow_origins=allow_origins, **limits)
         asyncio.run(server.run(host, port, on_ready=on_ready))
     finally:
-        # the accuracy lesson's worker processes, if any were started
+        # the worker processes (exports, the accuracy lesson), if any were started
         accuracy_panel.shutdown()

@@ -24,15 +24,11 @@ processes import it to run :func:`plot_data_url` and :func:`error_panel`.
 from __future__ import annotations
 
 import asyncio
-import atexit
 import base64
 import concurrent.futures
 import io
 import logging
 import math
-import multiprocessing
-import contextlib
-import signal
 import tempfile
 import threading
 from pathlib import Path
@@ -47,8 +43,6 @@ METHODS = (("flat", "Flat"), ("gouraud", "Gouraud"), ("pixel", "Per pixel"))
 RESOLUTIONS = (8, 16, 32, 64, 128)
 #: the pick shown first when the lesson's own scene is not one of the choices
 DEFAULT_PICK = ("gouraud", 16)
-#: worker processes shared by every tab of the server
-WORKERS = 2
 #: the longest wait for a result before the page says it failed (seconds)
 TIMEOUT = 180.0
 #: size of the error images in pixels (width = height)
@@ -183,31 +177,20 @@ def _power_of_ten(value: float) -> str:
 # worker processes, shared by every tab of this server process
 
 _lock = threading.Lock()
-_pool = None
 _plot = None  # concurrent Future of plot_data_url(), kept once it succeeded
 
 
-def _ignore_interrupts() -> None:
-    # Ctrl-C reaches the whole process group: the server stops its workers itself
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
 def submit(function, *args) -> concurrent.futures.Future:
-    """Run ``function(*args)`` in a worker process; a Future of its result.
+    """Run ``function(*args)`` in a worker process of :mod:`phonglab.app.worker`; a Future of its result.
 
-    The workers are started (spawned, not forked: the server holds threads
-    and OpenGL contexts) on the first call.
+    The workers are shared with the page's other heavy work (exports) and
+    run at a lower CPU priority than the server's event loop. The panel's
+    own requests are few (one plot per server, one set of images per tab at
+    a time), so they are not held to the server's job limit.
     """
-    global _pool
-    future = concurrent.futures.Future()
-    future.set_running_or_notify_cancel()
-    with _lock:
-        if _pool is None:
-            _pool = multiprocessing.get_context("spawn").Pool(WORKERS, initializer=_ignore_interrupts)
-            # any process that started workers stops them before it exits, not in Pool.__del__
-            atexit.register(shutdown)
-        _pool.apply_async(function, args, callback=future.set_result, error_callback=future.set_exception)
-    return future
+    from phonglab.app import worker
+
+    return worker.submit(function, *args, limit=None)
 
 
 def plot_future() -> concurrent.futures.Future:
@@ -230,30 +213,14 @@ def forget_plot(future) -> None:
             _plot = None
 
 
-#: how long stopping waits for the pool's own clean-up before leaving it to exit
-SHUTDOWN_WAIT = 2.0
-
-
 def shutdown() -> None:
-    """Stop the worker processes at once (work in progress is dropped).
+    """Stop the worker processes at once (work in progress is dropped); see :func:`phonglab.app.worker.shutdown`."""
+    global _plot
+    from phonglab.app import worker
 
-    A signal to the whole process group (``docker stop``, ``kill -- -PGID``)
-    may already have killed the workers, and ``Pool.terminate`` can then wait
-    for ever on results that never come. So the workers left are killed
-    outright and the pool's own clean-up gets :data:`SHUTDOWN_WAIT` seconds
-    in a daemon thread: stopping the server never hangs.
-    """
-    global _pool, _plot
     with _lock:
-        pool, _pool, _plot = _pool, None, None
-    if pool is None:
-        return
-    for worker in list(getattr(pool, "_pool", ())):
-        with contextlib.suppress(Exception):
-            worker.kill()
-    cleanup = threading.Thread(target=pool.terminate, name="accuracy-pool-stop", daemon=True)
-    cleanup.start()
-    cleanup.join(SHUTDOWN_WAIT)
+        _plot = None
+    worker.shutdown()
 
 
 # ---------------------------------------------------------------------------

@@ -44,6 +44,7 @@ from phonglab.app.check_question import CheckPanel
 from phonglab.app.student_code import StudentCodePanel
 from phonglab.app import client
 from phonglab.app import address
+from phonglab.app import download
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.timing import record
@@ -120,6 +121,7 @@ class LessonApp(TrameApp):
         self.accuracy = AccuracyPanel(self.state, self.notify)
         self.check = CheckPanel(self.state)
         self.student_code = StudentCodePanel(self.state, allow_student_code)
+        self.exports = download.Exports(self.state, self.notify)  # figures made in a worker process
         self.state.change("view_size")(self._on_view_size)
         self.state.change(address.REQUEST_KEY)(self._on_address)
         # the lesson's mistake is the server's: a browser's write is undone
@@ -548,25 +550,16 @@ class LessonApp(TrameApp):
     def export_figure(self, kind="render", *_, **__) -> None:
         """Send the current scene's figure (``kind``: render, terms or mistake) to the browser as a download.
 
-        A copy is written on the server only when the app has an export folder.
+        The figure is made in a worker process (:class:`~phonglab.app.download.Exports`);
+        a copy is written on the server only when the app has an export folder.
         """
-        from phonglab.app import download
-
         try:
             kind = kind if kind in download.KINDS else "render"
             mistake = self.entry.lesson.mistake if self.entry and self.entry.lesson else None
-            # the mistake the view shows, if any: the export is shaded with it and carries the red band
-            data = download.render_png(self.scene, kind, mistake, shown_mistake=self.view.mistake)
             stem = f"lesson-{self.entry.number:02d}" if self.entry.number is not None else self.entry.path.stem
-            name = download.file_name(stem, kind)
-            self._download_serial = getattr(self, "_download_serial", 0) + 1
-            self.state[download.STATE_KEY] = {"name": name, "url": download.data_url(data),
-                                              "serial": self._download_serial}
-            if self.export_dir is not None:
-                path = download.server_copy(self.export_dir, name, data)
-                self.notify("success", f"Saved {path}; downloading {name}")
-            else:
-                self.notify("success", f"Downloading {name}")
+            # the mistake the view shows, if any: the export is shaded with it and carries the red band
+            self.exports.start(self.scene, kind, stem, mistake, shown_mistake=self.view.mistake,
+                               export_dir=self.export_dir)
         except Exception as exc:
             log.exception("export")
             self.notify("error", f"Export failed: {exc}")
@@ -610,6 +603,7 @@ class LessonApp(TrameApp):
             self._panels_handle.cancel()
             self._panels_handle = None
         self.accuracy.close()
+        self.exports.close()
         if self.view is not None:
             try:
                 self.view.close()

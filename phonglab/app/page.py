@@ -153,6 +153,7 @@ class _Page:
                         disabled=("lesson_errors.length > 0",), classes="phonglab-reset")
                 v3.VBtn("Export PNG", prepend_icon="mdi-image-outline", variant="tonal", color="primary",
                         click=self.handlers.export_figure, disabled=("lesson_errors.length > 0",),
+                        loading=("export_busy",),  # the figure is being made in a worker (app/download.py)
                         classes="phonglab-export ml-2 mr-2")
                 # more figures to download: the per-term figure and the mistake comparison
                 with v3.VMenu():

@@ -10,6 +10,10 @@ Only the page this server serves may open a session (its own origin, or
 one given with ``--allow-origin`` when a proxy serves it under another
 address); at most ``--max-sessions`` tabs are open at once.
 
+With ``--export-dir``, the hidden temporary files that an export killed
+mid-write left there (by a server or an export stopped with ``kill -9``)
+are removed when the server starts.
+
 Exit status: 0 after a clean stop, 2 for a lesson that does not exist or an
 address or port that cannot be used.
 """
@@ -147,6 +151,9 @@ def run(args) -> int:
         print("phonglab serve: warning: --allow-student-code: students' code runs on this server, in the "
               "grader's sandbox; for a trusted classroom only", file=sys.stderr)
 
+    if args.export_dir is not None:
+        _clean_export_dir(args.export_dir)
+
     def ready(port):
         shown = f"[{host}]" if ":" in host else host
         print(f"phonglab: serving {target} at http://{shown}:{port}/  (Ctrl-C stops)", flush=True)
@@ -164,6 +171,17 @@ def run(args) -> int:
             raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror}") from None
         raise
     return 0
+
+
+def _clean_export_dir(folder) -> list[str]:
+    """Remove what exports killed mid-write left in ``folder`` (before any tab can export); say so on stderr."""
+    from phonglab.render._files import clean_stale_temporaries
+
+    removed = clean_stale_temporaries(folder)
+    if removed:
+        print(f"phonglab serve: removed {len(removed)} temporary file(s) an interrupted export left in {folder}: "
+              + ", ".join(removed[:5]) + (", …" if len(removed) > 5 else ""), file=sys.stderr)
+    return removed
 
 
 def _is_loopback(host: str) -> bool:

@@ -24,6 +24,7 @@ import numpy as np
 
 from phonglab.render import shading
 from phonglab.render._files import clean_stale_temporaries
+from phonglab.scene.limits import check_picture_work
 from phonglab.render.annotate import downsample
 from phonglab.render.captions import (
     LABEL_BOX,
@@ -236,6 +237,8 @@ def figure(
     source = os.fspath(scene_or_path) if isinstance(scene_or_path, (str, os.PathLike)) else ""
     mistake = resolve_mistake(mistake, lesson, source)
     scene = apply_settings(base, settings)
+    if plot is None:  # a per-pixel area light's rays follow the picture's pixels
+        check_picture_work(scene, size[0] * size[1] * supersample**2)
     sweeps = normalize_sweeps(sweep, scene)
     if sweeps:
         # the grid must have room for its cells before n × m scenes are built

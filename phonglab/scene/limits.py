@@ -9,8 +9,13 @@ sake of the work or the arithmetic downstream:
   size: past it, a squared distance overflows float32 and labels are drawn
   at NaN;
 * at most :data:`~phonglab.scene.schema.MAX_LIGHTS` lights;
-* a Monte Carlo area light evaluates ``samples`` rays per shaded vertex: at
-  most :data:`~phonglab.scene.schema.MAX_AREA_SAMPLE_POINTS` of them.
+* a Monte Carlo area light evaluates ``samples`` rays per shaded point: at
+  most :data:`~phonglab.scene.schema.MAX_AREA_SAMPLE_POINTS` of them. The
+  shaded points are the mesh's vertices, or in a per-pixel scene
+  (``interpolation = "pixel"``) the picture's pixels: checked here for a
+  picture of :data:`PIXEL_PICTURE` pixels (the largest view the page
+  shades per pixel), and again by :func:`check_picture_work` once an
+  export's size is known.
 
 :func:`check_limits` is called by :func:`phonglab.scene.build.scene_parts`,
 which loading, editing (``Scene.replace``, the page's controls) and the
@@ -26,6 +31,9 @@ from phonglab.scene.schema import MAX_AREA_SAMPLE_POINTS, MAX_COORDINATE, MAX_LI
 
 #: area-light methods that shoot ``samples`` rays per point
 MONTE_CARLO_METHODS = ("uniform", "stratified")
+#: pixels a per-pixel scene's area light is checked for before the picture's size is known:
+#: the largest view the page shades per pixel, 1600 × 1600 (``phonglab.app.lesson_app.MAX_PIXEL_SIDE``)
+PIXEL_PICTURE = 1600 * 1600
 
 
 def check_coordinates(path: str, vector) -> None:
@@ -71,20 +79,60 @@ def mesh_vertex_count(geometry) -> int | None:
     return None
 
 
-def check_area_work(area, vertices: int | None) -> None:
-    """Refuse a Monte Carlo area light whose samples × vertices pass :data:`MAX_AREA_SAMPLE_POINTS`."""
-    if area is None or area.method not in MONTE_CARLO_METHODS or not vertices:
+def check_area_work(area, vertices: int | None, *, pixels: int | None = None) -> None:
+    """Refuse a Monte Carlo area light whose samples × shaded points pass :data:`MAX_AREA_SAMPLE_POINTS`.
+
+    The shaded points are ``pixels`` when given (a per-pixel picture of that
+    many pixels), else the mesh's ``vertices``.
+    """
+    if area is None or area.method not in MONTE_CARLO_METHODS:
         return
-    work = area.samples * vertices
+    points = pixels if pixels is not None else vertices
+    if not points:
+        return
+    work = area.samples * points
     if work > MAX_AREA_SAMPLE_POINTS:
-        most = max(1, MAX_AREA_SAMPLE_POINTS // vertices)
+        most = max(1, MAX_AREA_SAMPLE_POINTS // points)
+        if pixels is not None:
+            what, smaller = "pixels shaded per pixel", "a smaller picture, interpolation = \"gouraud\""
+        else:
+            what, smaller = "mesh vertices", "a lower geometry.resolution"
         raise SceneError(
-            f"{area.samples} samples × {vertices:,} mesh vertices = {work:,} rays, at most "
+            f"{area.samples} samples × {points:,} {what} = {work:,} rays, at most "
             f"{MAX_AREA_SAMPLE_POINTS:,} allowed",
             field="area_light.samples",
             value=area.samples,
-            hint=f"use at most {most} samples here, a lower geometry.resolution, or method = \"exact\"",
+            hint=f"use at most {most} samples here, {smaller}, or method = \"exact\"",
         )
+
+
+def shaded_points(scene_or_parts, *, pixels: int | None = None) -> tuple[int | None, int | None]:
+    """``(vertices, pixels)`` a scene's area light is evaluated at: one of them is None.
+
+    A per-pixel scene shades ``pixels`` points (:data:`PIXEL_PICTURE` when
+    None); any other shades its mesh's vertices.
+    """
+    get = scene_or_parts.get if isinstance(scene_or_parts, dict) else lambda key: getattr(scene_or_parts, key)
+    if get("interpolation") == "pixel":
+        return None, int(pixels if pixels is not None else PIXEL_PICTURE)
+    return mesh_vertex_count(get("geometry")), None
+
+
+def check_picture_work(scene, pixels: int) -> None:
+    """Refuse rendering ``scene`` as a picture of ``pixels`` pixels when its area light's work passes the limit.
+
+    Only a per-pixel scene's work depends on the picture's size; call this
+    before rendering a picture larger than :data:`PIXEL_PICTURE` (an export
+    at its size × supersample²).
+
+    Raises
+    ------
+    SceneError
+        Naming ``area_light.samples``, the rays and the limit.
+    """
+    if scene.area_light is None or scene.interpolation != "pixel":
+        return
+    check_area_work(scene.area_light, None, pixels=int(pixels))
 
 
 def _light_vectors(light, table, path):
@@ -100,9 +148,9 @@ def check_limits(parts: dict, data: dict) -> list[SceneError]:
     """Every limit problem of a scene's checked parts (``data`` is its table form, for field names)."""
     errors = []
 
-    def run(fn, *args):
+    def run(fn, *args, **kwargs):
         try:
-            fn(*args)
+            fn(*args, **kwargs)
         except SceneError as exc:
             errors.append(exc)
 
@@ -120,11 +168,12 @@ def check_limits(parts: dict, data: dict) -> list[SceneError]:
     run(check_coordinates, "probe", parts.get("probe"))
     if area is not None and not errors and parts.get("geometry") is not None:
         try:
-            run(check_area_work, area, mesh_vertex_count(parts["geometry"]))
+            vertices, pixels = shaded_points(parts)
+            run(check_area_work, area, vertices, pixels=pixels)
         except SceneError as exc:  # the mesh file's own problem was reported where it was read
             errors.append(exc.located(field="geometry"))
     return errors
 
 
 __all__ = ["check_limits", "check_coordinates", "check_light_count", "check_area_work", "mesh_vertex_count",
-           "MONTE_CARLO_METHODS"]
+           "shaded_points", "check_picture_work", "MONTE_CARLO_METHODS", "PIXEL_PICTURE"]
