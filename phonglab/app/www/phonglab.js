@@ -222,10 +222,18 @@ window.phonglab = {
     return null;
   }
 
-  // a superscript prime (α′) keeps the superscript's size: mark it for phonglab.css
+  // a prime written as a superscript (α′ from \alpha') is set after its letter, as a prime glyph
+  // (already raised by the font), not shrunk again as a script of a script
   function markPrimes(math) {
-    math.querySelectorAll("msup > :last-child").forEach((el) => {
-      if (/^[′″‴']+$/.test(el.textContent.trim())) el.classList.add("math-prime");
+    math.querySelectorAll("msup").forEach((sup) => {
+      const [base, script] = sup.children;
+      if (!base || !script || sup.children.length !== 2 || !/^[′″‴]+$/.test(script.textContent.trim())) return;
+      const row = document.createElementNS(sup.namespaceURI, "mrow");
+      const prime = document.createElementNS(sup.namespaceURI, "mi");
+      prime.textContent = script.textContent.trim();
+      prime.setAttribute("class", "math-prime");
+      row.append(base, prime);
+      sup.replaceWith(row);
     });
   }
 
@@ -254,9 +262,9 @@ window.phonglab = {
 
   // the pieces of a formula's row (groups such as [ ... ] opened up) and the indices before which
   // it may break, by priority: outside brackets first (=, then + −, then · ∘), then inside them
-  function breakPoints(row) {
+  function breakPoints(row, deep = true) {
     const kids = [];
-    const open = (el) => Array.from(el.children).forEach((kid) => (kid.localName === "mrow" ? open(kid) : kids.push(kid)));
+    const open = (el) => Array.from(el.children).forEach((kid) => (deep && kid.localName === "mrow" ? open(kid) : kids.push(kid)));
     open(row);
     const points = BREAKS.concat(BREAKS).map(() => []);
     let depth = 0;
@@ -276,7 +284,13 @@ window.phonglab = {
   // does (greedy, each line as long as fits), else add the next group of operators; returns
   // lists of children, or null when the row cannot be broken
   function lines(row, room) {
-    const { kids, points } = breakPoints(row);
+    // groups stay whole (their brackets keep their size) when breaking outside them is enough
+    const outside = linesOf(row, room, false);
+    return outside && outside.fits ? outside.parts : (linesOf(row, room, true) || outside || {}).parts || null;
+  }
+
+  function linesOf(row, room, deep) {
+    const { kids, points } = breakPoints(row, deep);
     if (kids.length < 2) return null;
     const left = kids.map((k) => k.getBoundingClientRect().left);
     const right = kids.map((k) => k.getBoundingClientRect().right);
@@ -300,7 +314,8 @@ window.phonglab = {
     }
     if (!cuts || !cuts.length) return null;
     const starts = [0].concat(cuts), ends = cuts.concat([kids.length]);
-    return starts.map((s, i) => kids.slice(s, ends[i]));
+    const fits = starts.every((s, i) => width(s, ends[i], i === 0) <= room);
+    return { parts: starts.map((s, i) => kids.slice(s, ends[i])), fits };
   }
 
   function breakInto(box, math, room) {
@@ -360,7 +375,7 @@ window.phonglab = {
     if (math.getBoundingClientRect().width <= INLINE_SPLIT) return;
     let row = math;
     while (row.children.length === 1 && ["mrow", "semantics"].includes(row.firstElementChild.localName)) row = row.firstElementChild;
-    const { kids, points } = breakPoints(row);
+    const { kids, points } = breakPoints(row, false);
     const cuts = points[0].concat(points[1]).sort((a, b) => a - b);
     if (!cuts.length) return;
     const holder = document.createElement("span");
