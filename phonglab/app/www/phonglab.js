@@ -318,6 +318,13 @@ window.phonglab = {
     return { parts: starts.map((s, i) => kids.slice(s, ends[i])), fits };
   }
 
+  // a piece that starts with its operator keeps the operator's spacing (binary, not a sign)
+  function infix(mrow) {
+    const first = mrow.firstElementChild;
+    if (first && first.localName === "mo" && !first.hasAttribute("form")) first.setAttribute("form", "infix");
+    return mrow;
+  }
+
   function breakInto(box, math, room) {
     let row = math;
     while (row.children.length === 1 && ["mrow", "semantics"].includes(row.firstElementChild.localName)) row = row.firstElementChild;
@@ -331,7 +338,7 @@ window.phonglab = {
       const copy = math.cloneNode(false);
       const mrow = document.createElementNS(math.namespaceURI, "mrow");
       part.forEach((kid) => mrow.appendChild(kid.cloneNode(true)));
-      copy.appendChild(mrow);
+      copy.appendChild(part === parts[0] ? mrow : infix(mrow));
       line.appendChild(copy);
       group.appendChild(line);
     }
@@ -387,7 +394,7 @@ window.phonglab = {
       copy.dataset.split = "1";
       const mrow = document.createElementNS(math.namespaceURI, "mrow");
       kids.slice(from, ends[i]).forEach((kid) => mrow.appendChild(kid.cloneNode(true)));
-      copy.appendChild(mrow);
+      copy.appendChild(i ? infix(mrow) : mrow);
       holder.appendChild(copy);
     });
     math.replaceWith(holder);
