@@ -28,7 +28,10 @@ MEASURE = """() => {
   const sent = new DOMParser().parseFromString(window.trame.state.get('lesson_html'), 'text/html');
   const originals = [...sent.querySelectorAll('.math-block math')].map((m) => m.textContent.replace(/\\s+/g, ''));
   return [...document.querySelectorAll('.phonglab-body .math-block')].map((block, i) => {
-    const maths = [...block.querySelectorAll('math')].filter((m) => !m.parentElement.closest('math'));
+    const math = block.querySelector(':scope > math');
+    const maths = [math];
+    // a formula broken into lines stays one <math>: a table of its lines
+    const rows = [...math.querySelectorAll(':scope > mtable.math-lines > mtr')];
     const box = (m) => { const r = document.createRange(); r.selectNodeContents(m); return r.getBoundingClientRect(); };
     const b = block.getBoundingClientRect();
     const scale = parseFloat(block.style.getPropertyValue('--math-scale') || '1');
@@ -39,10 +42,10 @@ MEASURE = """() => {
     block.scrollLeft = 0;
     const first = (m) => { let e = m; while (e && e.children.length && !['mo', 'mi', 'mn', 'mtext'].includes(e.localName)) e = e.firstElementChild; return e ? e.textContent.trim() : ''; };
     return {
-      block: [b.left, b.right], column: [inner.left, inner.right], scale, lines: maths.length,
+      block: [b.left, b.right], column: [inner.left, inner.right], scale, lines: Math.max(1, rows.length), count: block.querySelectorAll('math').length,
       fontRatio: Math.min(...maths.map((m) => parseFloat(getComputedStyle(m).fontSize))) / body,
-      text: maths.map((m) => m.textContent.replace(/\\s+/g, '')).join(''), original: originals[i],
-      starts: maths.slice(1).map(first),
+      text: math.textContent.replace(/\\s+/g, ''), original: originals[i],
+      starts: rows.slice(1).map(first),
       overflowX: getComputedStyle(block).overflowX, scrollable: block.scrollWidth > block.clientWidth + 1,
       startLeft, endRight, scrolled, fade: block.classList.contains('math-more-right'),
     };
@@ -72,6 +75,7 @@ def test_display_maths_fits_breaks_or_scrolls_within_the_column(app_page, width)
         # broken or not, the formula is all there, in order; a continuation line starts with its operator
         assert b["text"] == b["original"], where
         assert all(s and s in BREAKS for s in b["starts"]), where
+        assert b["count"] == 1, f"one formula, one <math>: {where}"
         if b["scrollable"]:
             # scrolling only once breaking into lines went as far as it could, with a fade where it continues
             assert b["lines"] > 1 and b["overflowX"] == "auto" and b["fade"], where

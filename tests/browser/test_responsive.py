@@ -37,7 +37,7 @@ TEXT_BOXES = {
     "substituted equation": ".phonglab-equation, .eq-row, .eq-row .math-fit",
     "lesson list title": ".phonglab-lesson-item .v-list-item-title",
     "notice": ".phonglab-notice, .phonglab-notice .v-alert__content",
-    "formula": ".math-block, .math-line",
+    "formula": ".math-block, .math-fit",
     "control": ".phonglab-control-head, .phonglab-color-row, .phonglab-control .v-label, .phonglab-subsection",
     "planner row": ".phonglab-plan-row",
     "view tool": ".phonglab-chip, .phonglab-tools .v-btn__content, .phonglab-hint",

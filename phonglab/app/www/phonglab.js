@@ -250,13 +250,17 @@ window.phonglab = {
     return box;
   }
 
+  // the formula as the server sent it (kept on first sight; put back before each new fitting)
   function restore(box) {
+    let math = box.querySelector(":scope > math");
+    if (!math) return null;
     const original = originals.get(box);
-    if (original && !box.querySelector(":scope > math")) {
-      box.replaceChildren(original.cloneNode(true));
+    if (!original) originals.set(box, math.cloneNode(true));
+    else if (math.querySelector(":scope > mtable.math-lines")) {
+      const fresh = original.cloneNode(true);
+      math.replaceWith(fresh);
+      math = fresh;
     }
-    const math = box.querySelector(":scope > math");
-    if (math && !original) originals.set(box, math.cloneNode(true));
     return math;
   }
 
@@ -325,24 +329,26 @@ window.phonglab = {
     return mrow;
   }
 
+  // the formula, still one <math>, as a one-column table of its lines (the first line's
+  // pieces, then each continuation line from its operator on)
   function breakInto(box, math, room) {
     let row = math;
     while (row.children.length === 1 && ["mrow", "semantics"].includes(row.firstElementChild.localName)) row = row.firstElementChild;
     const parts = lines(row, room);
     if (!parts) return false;
-    const group = document.createElement("div");
-    group.className = "math-lines";
-    for (const part of parts) {
-      const line = document.createElement("div");
-      line.className = "math-line";
-      const copy = math.cloneNode(false);
-      const mrow = document.createElementNS(math.namespaceURI, "mrow");
+    const ns = math.namespaceURI;
+    const table = document.createElementNS(ns, "mtable");
+    table.setAttribute("class", "math-lines");
+    parts.forEach((part, i) => {
+      const tr = document.createElementNS(ns, "mtr");
+      const td = document.createElementNS(ns, "mtd");
+      const mrow = document.createElementNS(ns, "mrow");
       part.forEach((kid) => mrow.appendChild(kid.cloneNode(true)));
-      copy.appendChild(part === parts[0] ? mrow : infix(mrow));
-      line.appendChild(copy);
-      group.appendChild(line);
-    }
-    box.replaceChildren(group);
+      td.appendChild(i ? infix(mrow) : mrow);
+      tr.appendChild(td);
+      table.appendChild(tr);
+    });
+    math.replaceChildren(table);
     return true;
   }
 
