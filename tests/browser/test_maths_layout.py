@@ -15,8 +15,8 @@ import pytest
 
 #: the smallest scale phonglab.js gives a formula before it breaks it into lines
 MIN_SCALE = 0.9
-#: operators a continuation line may start with
-BREAKS = "=≈≤≥<>→+−-±·∘×"
+#: what a continuation line may start with: an operator, or the bracket of a factor
+BREAKS = "=≈≤≥<>→+−-±·∘×(["
 
 MEASURE = """() => {
   const column = document.querySelector('.phonglab-text');

@@ -265,21 +265,34 @@ window.phonglab = {
   }
 
   // the pieces of a formula's row (groups such as [ ... ] opened up) and the indices before which
-  // it may break, by priority: outside brackets first (=, then + −, then · ∘), then inside them
+  // it may break, by priority: outside brackets (=, then + −, then · ∘, then between two bracketed
+  // factors, ")(" ), then inside big brackets (\left[ ... \right]); never inside small ones,
+  // such as max(0, n·l)
   function breakPoints(row, deep = true) {
     const kids = [];
     const open = (el) => Array.from(el.children).forEach((kid) => (deep && kid.localName === "mrow" ? open(kid) : kids.push(kid)));
     open(row);
-    const points = BREAKS.concat(BREAKS).map(() => []);
-    let depth = 0;
+    const points = BREAKS.map(() => []).concat([[]], BREAKS.map(() => []));
+    const FACTOR = BREAKS.length, INSIDE = BREAKS.length + 1;
+    const stack = []; // 1 for a big bracket, 2 for a small one
+    const depth = () => stack.reduce((a, b) => a + b, 0);
     kids.forEach((kid, i) => {
       const op = opText(kid);
-      if (op && i > 0 && depth <= 1) {
+      const opens = op && op.length === 1 && OPEN.includes(op) && !CLOSE.includes(op);
+      const closes = op && op.length === 1 && CLOSE.includes(op) && !OPEN.includes(op);
+      const d = depth();
+      if (op && i > 0 && d <= 1) {
         const level = BREAKS.findIndex((group) => group.includes(op));
-        if (level >= 0) points[level + depth * BREAKS.length].push(i);
+        if (level >= 0) points[d ? INSIDE + level : level].push(i);
+        let k = i - 1;
+        while (k > 0 && kids[k].localName === "mspace") k--; // a thin space between the factors
+        const before = opText(kids[k]);
+        if (opens && d === 0 && before && before.length === 1 && CLOSE.includes(before)) points[FACTOR].push(i);
       }
-      if (op && op.length === 1 && OPEN.includes(op) && !CLOSE.includes(op)) depth++;
-      else if (op && op.length === 1 && CLOSE.includes(op) && !OPEN.includes(op)) depth = Math.max(0, depth - 1);
+      if (opens) {
+        const mo = kid.localName === "mo" ? kid : kid.firstElementChild;
+        stack.push(mo && mo.getAttribute("stretchy") === "true" ? 1 : 2);
+      } else if (closes) stack.pop();
     });
     return { kids, points };
   }
@@ -325,7 +338,8 @@ window.phonglab = {
   // a piece that starts with its operator keeps the operator's spacing (binary, not a sign)
   function infix(mrow) {
     const first = mrow.firstElementChild;
-    if (first && first.localName === "mo" && !first.hasAttribute("form")) first.setAttribute("form", "infix");
+    const binary = first && first.localName === "mo" && BREAKS.some((group) => group.includes(first.textContent.trim()));
+    if (binary && !first.hasAttribute("form")) first.setAttribute("form", "infix");
     return mrow;
   }
 
