@@ -1,0 +1,210 @@
+"""The lesson page at the window sizes students have, on every lesson of ``lessons/``.
+
+Sizes: the two commonest laptop screens (1280x800, 1366x768), half a laptop
+screen beside notes (800x900) and a desktop (1920x1080). On each lesson, at
+each size:
+
+* the page never scrolls sideways;
+* the 3D view is wholly inside the window's width, at a size one can work with;
+* no box that holds text cuts its text off (a box may scroll its content
+  sideways only when it shows that it does: a scrollbar or a fade);
+* every formula is typeset at 90 % of the lesson text's size or more;
+* the colour legend of the view does not sit under the view's buttons.
+
+One tab serves the whole file: each lesson is opened once by its address
+(``?lesson=<slug>``), and the window is resized around it. Set
+``PHONGLAB_LAYOUT_SHOTS`` to a folder to save a screenshot of each case.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+
+LESSONS = Path(__file__).resolve().parents[2] / "lessons"
+SLUGS = sorted(p.stem for p in LESSONS.glob("*.md") if p.stem[:2].isdigit())
+SIZES = [(1280, 800), (1366, 768), (800, 900), (1920, 1080)]
+#: formulas are at least this fraction of the lesson text's font size
+MIN_FORMULA = 0.9
+
+#: boxes that hold text, by what they are (a CSS selector each)
+TEXT_BOXES = {
+    "readout row": ".phonglab-term, .phonglab-dot, .phonglab-readout-head, .phonglab-term-wrong",
+    "substituted equation": ".phonglab-equation, .eq-row, .eq-row .math-fit",
+    "lesson list title": ".phonglab-lesson-item .v-list-item-title",
+    "notice": ".phonglab-notice, .phonglab-notice .v-alert__content",
+    "formula": ".math-block, .math-fit",
+    "control": ".phonglab-control-head, .phonglab-color-row, .phonglab-control .v-label, .phonglab-subsection",
+    "planner row": ".phonglab-plan-row",
+    "view tool": ".phonglab-chip, .phonglab-tools .v-btn__content, .phonglab-hint",
+    "lesson text": ".phonglab-h1, .phonglab-goal, .phonglab-body > *, .phonglab-experiment",
+    "accuracy figure": ".phonglab-accuracy-number, .phonglab-accuracy-figure figcaption",
+    "bar button": ".phonglab-bar .v-btn__content",
+}
+
+#: every problem of the page as it is now, as text (lesson and size are added by the test)
+MEASURE = """(boxes) => {
+  const problems = [];
+  const vw = document.documentElement.clientWidth;
+  const name = (e) => {
+    const cls = typeof e.className === 'string' ? e.className : (e.getAttribute('class') || '');
+    return e.tagName.toLowerCase() + (cls ? '.' + cls.trim().split(/\\s+/).join('.') : '');
+  };
+  const start = (e) => JSON.stringify((e.textContent || '').replace(/\\s+/g, ' ').trim().slice(0, 50));
+  const shown = (e) => { const r = e.getBoundingClientRect(); return r.width > 0 && r.height > 0 && getComputedStyle(e).visibility !== 'hidden'; };
+  const inDrawer = (e) => !!e.closest('.phonglab-drawer');
+  // 1. no sideways scrolling
+  const root = document.scrollingElement;
+  if (root.scrollWidth > root.clientWidth) problems.push(`the page scrolls sideways: scrollWidth ${root.scrollWidth} > clientWidth ${root.clientWidth}`);
+  // 2. the 3D view: inside the window's width, of a workable size
+  const view = document.querySelector('.phonglab-view');
+  if (!view) problems.push('no 3D view on the page');
+  else {
+    const r = view.getBoundingClientRect();
+    const need = Math.min(320, 0.9 * vw);
+    if (r.left < -0.5 || r.right > vw + 0.5) problems.push(`the 3D view is not wholly inside the window: left ${r.left.toFixed(0)}, right ${r.right.toFixed(0)}, window ${vw}`);
+    if (r.width < need || r.height < 240) problems.push(`the 3D view is too small: ${r.width.toFixed(0)}x${r.height.toFixed(0)} px (need ${need.toFixed(0)}x240)`);
+    if (r.height > window.innerHeight) problems.push(`the 3D view is taller than the window: ${r.height.toFixed(0)} > ${window.innerHeight}`);
+    const canvas = view.querySelector('canvas');
+    if (canvas) {
+      const c = canvas.getBoundingClientRect();
+      if (c.left < r.left - 1 || c.right > r.right + 1 || c.top < r.top - 1 || c.bottom > r.bottom + 1)
+        problems.push(`the view's canvas sticks out of the view: canvas ${c.left.toFixed(0)}..${c.right.toFixed(0)} x ${c.top.toFixed(0)}..${c.bottom.toFixed(0)}, view ${r.left.toFixed(0)}..${r.right.toFixed(0)} x ${r.top.toFixed(0)}..${r.bottom.toFixed(0)}`);
+    }
+  }
+  // 3. boxes that cut their text: content wider than the box, unless the box visibly scrolls
+  for (const [what, selector] of Object.entries(boxes)) {
+    for (const e of document.querySelectorAll(selector)) {
+      if (!shown(e) && !inDrawer(e)) continue;
+      const s = getComputedStyle(e);
+      if (s.display.startsWith('inline') && !s.display.includes('block') && !s.display.includes('flex') && !s.display.includes('grid')) continue;
+      if (e.scrollWidth > e.clientWidth + 1) {
+        const scrolls = s.overflowX === 'auto' || s.overflowX === 'scroll';
+        const bar = e.offsetHeight - e.clientHeight - parseFloat(s.borderTopWidth) - parseFloat(s.borderBottomWidth) > 0;
+        const fade = e.classList.contains('math-more-right') || e.classList.contains('math-more-left');
+        if (!(scrolls && (bar || fade)))
+          problems.push(`${what} cuts its text: ${name(e)} ${start(e)}: scrollWidth ${e.scrollWidth} > clientWidth ${e.clientWidth} (overflow-x ${s.overflowX})`);
+      }
+      if (!inDrawer(e)) {
+        const r = e.getBoundingClientRect();
+        if (r.right > vw + 1 || r.left < -1) problems.push(`${what} is outside the window: ${name(e)} ${start(e)}: ${r.left.toFixed(0)}..${r.right.toFixed(0)}, window ${vw}`);
+      }
+    }
+  }
+  // 4. formulas at 90 % of the lesson text's size or more
+  const text = document.querySelector('.phonglab-body') || document.body;
+  const body = parseFloat(getComputedStyle(text).fontSize);
+  for (const m of document.querySelectorAll('math')) {
+    if (m.parentElement.closest('math') || inDrawer(m) || !shown(m)) continue;
+    const size = parseFloat(getComputedStyle(m).fontSize);
+    if (size < %MIN% * body - 0.01)
+      problems.push(`a formula is small: ${name(m.parentElement)} > math ${start(m)}: ${size.toFixed(1)} px < ${%MIN%} x ${body.toFixed(1)} px of the lesson text`);
+  }
+  // 5. the legend's chips are not under the view's buttons
+  const tools = [...document.querySelectorAll('.phonglab-tools .v-btn')].filter(shown).map((b) => [b, b.getBoundingClientRect()]);
+  for (const chip of document.querySelectorAll('.phonglab-chip')) {
+    const c = chip.getBoundingClientRect();
+    for (const [b, r] of tools)
+      if (c.left < r.right && r.left < c.right && c.top < r.bottom && r.top < c.bottom)
+        problems.push(`legend chip ${start(chip)} sits under the view's button ${start(b)}`);
+  }
+  return problems;
+}""".replace("%MIN%", str(MIN_FORMULA))
+
+#: three animation frames: the layout, the formulas' fitting (phonglab.js) and their re-layout are done
+FRAMES = "() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => requestAnimationFrame(done))))"
+
+
+@pytest.fixture(scope="module")
+def lessons_server(tmp_path_factory):
+    """``phonglab serve lessons/`` on a free port (the real lessons, not the test ones)."""
+    port = free_port()
+    log_path = tmp_path_factory.mktemp("responsive") / "serve.log"
+    process = start_server(serve_command(LESSONS, port), log_path=log_path)
+    try:
+        wait_until_serving(process, port, log_path=log_path)
+    except RuntimeError as exc:
+        stop_server(process)
+        pytest.fail(f"phonglab serve lessons/ did not start: {exc}")
+    yield {"url": f"http://127.0.0.1:{port}/index.html", "process": process, "log": log_path}
+    stop_server(process)
+
+
+@pytest.fixture(scope="module")
+def tab(browser, lessons_server):
+    """One tab for the whole file; fails on JavaScript errors."""
+    context = browser.new_context(viewport={"width": SIZES[0][0], "height": SIZES[0][1]})
+    page = context.new_page()
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        yield page
+        assert not errors, f"JavaScript errors on the page: {errors}"
+        assert lessons_server["process"].poll() is None, f"the server died:\n{log_tail(lessons_server['log'])}"
+    finally:
+        context.close()
+
+
+def open_by_address(page, server, slug):
+    """Open ``?lesson=<slug>`` and wait until the page shows that lesson with its readout or panel."""
+    query = f"?lesson={slug}"
+    if page.url.startswith(server["url"]):
+        # the tab is on the app already: the address changes as a pasted link would change it, without
+        # reloading the page (a reload builds a new session: many seconds on a loaded machine)
+        page.evaluate("(q) => { history.replaceState(null, '', location.pathname + q); trame.state.set('url_request', q); }", query)
+    else:
+        page.goto(server["url"] + query)
+    page.wait_for_function(
+        """(q) => {
+          const s = window.trame && window.trame.state;
+          if (!s || s.get('url_query') !== q || !document.querySelector('.phonglab-view canvas')) return false;
+          if (s.get('lesson_errors').length) return true;
+          return !!document.querySelector('.phonglab-h1') && !!(document.querySelector('.phonglab-readout .eq-row, .phonglab-readout math') || s.get('accuracy'));
+        }""",
+        arg=query, timeout=60_000,
+    )
+
+
+@pytest.mark.parametrize("slug", SLUGS)
+def test_lesson_fits_every_window_size(tab, lessons_server, slug):
+    assert len(SLUGS) >= 12, f"lessons/ should hold the 12 lessons, found {SLUGS}"
+    open_by_address(tab, lessons_server, slug)
+    shots = os.environ.get("PHONGLAB_LAYOUT_SHOTS")
+    found = []
+    for width, height in SIZES:
+        tab.set_viewport_size({"width": width, "height": height})
+        tab.evaluate(FRAMES)
+        tab.wait_for_timeout(100)  # the view's size observer and the formulas' fitting settle
+        tab.evaluate(FRAMES)
+        if shots:
+            tab.screenshot(path=str(Path(shots) / f"{width}x{height}-{slug}.png"))
+        problems = tab.evaluate(MEASURE, TEXT_BOXES)
+        if problems:  # measured again once the server's last update (a readout, say) is fitted too
+            tab.wait_for_timeout(500)
+            tab.evaluate(FRAMES)
+            problems = tab.evaluate(MEASURE, TEXT_BOXES)
+        found += [f"{slug} at {width}x{height}: {p}" for p in problems]
+    assert not found, f"{len(found)} layout problems:\n" + "\n".join(found)
+
+
+def test_notice_does_not_push_the_controls_down(tab, lessons_server):
+    """Applying an experiment shows a notice over the page; the controls stay where they were."""
+    tab.set_viewport_size({"width": 1366, "height": 768})
+    open_by_address(tab, lessons_server, "04-specular")
+    controls = ".phonglab-side .phonglab-controls"
+    tab.wait_for_selector(controls)
+    before = tab.locator(controls).bounding_box()
+    tab.locator(".phonglab-apply").first.click()
+    tab.wait_for_selector(".phonglab-notice", timeout=20_000)
+    tab.evaluate(FRAMES)
+    after = tab.locator(controls).bounding_box()
+    notice = tab.locator(".phonglab-notice").bounding_box()
+    text = tab.locator(".phonglab-notice").inner_text()
+    assert abs(after["y"] - before["y"]) < 1, f"the notice {text!r} moved the controls from y={before['y']} to y={after['y']}"
+    assert notice["x"] >= 0 and notice["x"] + notice["width"] <= 1366, f"the notice {text!r} is outside the window: {notice}"
+    found = tab.evaluate(MEASURE, {"notice": TEXT_BOXES["notice"]})
+    assert not found, f"04-specular at 1366x768 with the notice {text!r}:\n" + "\n".join(found)
