@@ -50,9 +50,17 @@ def test_a_translucent_gouraud_mesh_is_shown_as_the_servers_blend(app):
     assert "opacity = 0.5" in GLASS
     assert app.scene.material.opacity == 0.5 and app.scene.interpolation == "gouraud"
     assert app.state.pixel_mode is True
+    # the view's caption says what the picture is: a blend, not per-pixel shading
+    assert app.state.pixel_hint.startswith("Translucent"), app.state.pixel_hint
     # the picture is the view's own blended screenshot, and the actor carries the opacity for vtk.js
     assert np.array_equal(shown(app), app.view.screenshot(annotate=True))
     assert app.view.mesh_actor.GetProperty().GetOpacity() == pytest.approx(0.5)
     app._show_scene(app.scene.replace("material.opacity", 1.0))
     assert app.state.pixel_mode is False and app.state.pixel_src == ""
     assert app.view.mesh_actor.GetProperty().GetOpacity() == 1.0
+
+
+def test_a_translucent_per_pixel_mesh_is_captioned_as_per_pixel_shading(app):
+    app._show_scene(app.scene.replace("interpolation", "pixel"))
+    assert app.state.pixel_mode is True
+    assert app.state.pixel_hint == "Per-pixel shading by the core", app.state.pixel_hint

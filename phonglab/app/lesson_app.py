@@ -339,6 +339,8 @@ class LessonApp(TrameApp):
         # a translucent mesh is blended in linear light by the server (vtk.js would blend encoded colours)
         pixel = pixel or translucent(self.scene)
         self.state.pixel_mode = pixel
+        self.state.pixel_hint = ("Per-pixel shading by the core" if self.scene.interpolation == "pixel"
+                                 else "Translucent: blended by the core in linear light")
         if not pixel:
             self.state.pixel_src = ""
             return

@@ -64,6 +64,7 @@ def initial_state() -> dict:
         "view_colors": None,
         "pixel_src": "",
         "pixel_mode": False,
+        "pixel_hint": "",
         "control_values": {},
         "control_labels": {},
         "has_view": False,
@@ -268,7 +269,7 @@ class _Page:
                         v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
                         v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
                 html.Div(
-                    "{{ pixel_mode ? 'Per-pixel shading by the core · click to pick · turn the view and it follows' : "
+                    "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view and it follows' : "
                     "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
                     "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
                     classes="phonglab-hint",
