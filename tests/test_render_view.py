@@ -218,6 +218,13 @@ def test_arrow_tips_and_letters_stay_inside_the_window(source, size):
         marks = view.vector_marks()
         angle = camera.GetViewAngle()
         eye, focal = np.array(camera.GetPosition()), np.array(camera.GetFocalPoint())
+        # each light marker's centre on the image, and its radius in pixels there
+        markers = []
+        for centre, radius in view._glyphs.marker_balls():
+            x, y = view.to_image(centre, size[1])
+            right = np.cross(focal - eye, camera.GetViewUp())
+            edge = view.to_image(centre + radius * right / np.linalg.norm(right), size[1])
+            markers.append((x, y, float(np.hypot(edge[0] - x, edge[1] - y))))
     finally:
         view.close()
     width, height = size
@@ -231,9 +238,16 @@ def test_arrow_tips_and_letters_stay_inside_the_window(source, size):
     assert np.allclose(eye, scene.camera.eye) and np.allclose(focal, scene.camera.focal_point), where
     assert angle >= scene.camera.view_angle - 1e-9, where
     if angle > scene.camera.view_angle + 1e-6:
-        # widened only as far as needed: some letter comes close to an edge
+        # widened only as far as needed: some letter or light marker comes close to an edge
         gaps = [min(left, top, width - right, height - bottom) for _, (left, top, right, bottom) in marks.values()]
-        assert min(gaps) < 0.1 * min(size), f"{where}: widened although every letter is {min(gaps):.0f} px inside"
+        gaps += [min(x - r, y - r, width - x - r, height - y - r) for x, y, r in markers]
+        assert min(gaps) < 0.1 * min(size), (
+            f"{where}: widened although every letter and marker is {min(gaps):.0f} px inside")
+    for x, y, r in markers:  # a marker is whole in the window, or wholly outside it
+        inside = r <= x <= width - r and r <= y <= height - r
+        outside = x < -r or x > width + r or y < -r or y > height + r
+        assert inside or outside or r > 0.25 * min(size), f"{where}: a light marker at ({x:.0f}, {y:.0f}), " \
+            f"radius {r:.0f} px, is cut by the window's edge"
 
 
 def test_view_angle_is_the_scenes_without_arrows_and_follows_the_vectors_shown():

@@ -238,6 +238,16 @@ class Glyphs:
                 _reshape(glyph, marker)
             glyph.actor.SetVisibility(marker is not None and visible)
 
+    def marker_balls(self) -> list[tuple[np.ndarray, float]]:
+        """``(centre, radius)`` of a ball around each light marker and area panel shown, in world units."""
+        balls = []
+        for glyph in [*self.light_markers, self.area_panel]:
+            if glyph.actor.GetVisibility():
+                x0, x1, y0, y1, z0, z1 = glyph.actor.GetBounds()
+                low, high = np.array([x0, y0, z0]), np.array([x1, y1, z1])
+                balls.append(((low + high) / 2, float(np.linalg.norm(high - low)) / 2))
+        return balls
+
     def show_area_panel(self, area_light, *, visible: bool) -> None:
         """The area light's panel where it is (hidden for None)."""
         if area_light is not None:

@@ -97,6 +97,11 @@ def view_angle_for_tips(eye, focal_point, view_up, tips, *, tip_radius: float, w
     return min(MAX_VIEW_ANGLE, math.degrees(2.0 * math.atan(half_tan)))
 
 
+#: a light marker is framed whole if that widens the scene's view angle by at most this factor;
+#: one farther out (a lamp beside the eye) is left out of the picture rather than shrink the scene
+MARKER_WIDENING = 1.5
+
+
 def fitted_view_angle(scene_camera, position, focal_point, view_up, tips, *, tip_radius: float, width: int,
                       height: int, reach: float) -> float | None:
     """The view angle (degrees) for a camera: the scene's, widened if the tips would leave the window.

@@ -452,7 +452,7 @@ class SceneView:
     # framing the arrows
 
     def _fit_view_angle(self) -> None:
-        """Set the VTK camera's view angle: the scene's, widened if the arrows would leave the window.
+        """Set the VTK camera's view angle: the scene's, widened if the arrows or light markers would leave the window.
 
         The camera's position, focal point and up vector are left alone. The
         view angle spans the shorter side of the window (see :meth:`render`).
@@ -470,6 +470,13 @@ class SceneView:
             [self._arrows.tip(letter) for letter in letters],
             tip_radius=glyphs.TIP_RADIUS, width=width, height=height,
             reach=framing.label_reach(height, letters) if letters and self.show_labels else 0.0)
+        if angle is not None:  # a light's marker near the edge is brought whole into the window
+            for centre, radius in self._glyphs.marker_balls():
+                needed = framing.view_angle_for_tips(
+                    camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(), [centre],
+                    tip_radius=radius, width=width, height=height, reach=0.0)
+                if needed <= framing.MARKER_WIDENING * self.scene.camera.view_angle:
+                    angle = max(angle, needed)
         if angle is not None and camera.GetViewAngle() != angle:
             camera.SetViewAngle(angle)
 
@@ -495,6 +502,7 @@ class SceneView:
         self._glyphs.show_light_markers(self.scene.lights, self.scene.camera.view_direction,
                                         visible=self.show_markers)
         self._glyphs.show_area_panel(area.light if area is not None else None, visible=self.show_markers)
+        self._fit_view_angle()
 
     def _update_eye_marker(self) -> None:
         self._glyphs.show_eye(self.scene.camera, self.renderer.GetActiveCamera(), visible=self.show_markers)
