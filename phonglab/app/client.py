@@ -59,7 +59,14 @@ def dataset_id(mapper) -> str:
     return f"{reference_id(mapper)}-dataset"
 
 
-def color_payload(mapper, colors: np.ndarray, *, name: str, location: str) -> dict:
+def array_hash(vtk_array) -> str:
+    """The hash under which trame-vtk sends ``vtk_array`` to a browser (and caches it, so it is not hashed twice)."""
+    from trame_vtk.modules.vtk.serializers.helpers import digest
+
+    return digest(vtk_array)
+
+
+def color_payload(mapper, colors: np.ndarray, *, name: str, location: str, vtk_array=None) -> dict:
     """The state value for :class:`ColorPush`: which array, and its new bytes.
 
     Parameters
@@ -72,15 +79,23 @@ def color_payload(mapper, colors: np.ndarray, *, name: str, location: str) -> di
         The array's name.
     location : {"point", "cell"}
         Point or cell data.
+    vtk_array : vtkDataArray, optional
+        The array itself, holding ``colors``: the payload then carries its
+        trame-vtk ``hash``, and the browser files the bytes under it, so the
+        next full synchronisation of the scene neither downloads the array
+        again nor rebuilds the mesh.
     """
     if location not in ("point", "cell"):
         raise ValueError(f"location must be 'point' or 'cell', got {location!r}")
-    return {
+    payload = {
         "dataset": dataset_id(mapper),
         "name": name,
         "location": location,
         "data": np.ascontiguousarray(colors).tobytes(),
     }
+    if vtk_array is not None:
+        payload["hash"] = array_hash(vtk_array)
+    return payload
 
 
 class ArrowLetters(AbstractElement):

@@ -112,6 +112,7 @@ class LessonApp(TrameApp):
         self._panels_handle = None
         self._view_ms = 0.0
         self._camera_moved = False
+        self._turn_unsynced = False  # a turn re-shaded the view and the drag's end has not synchronised it yet
         self._cameras = eye.Latest(self._apply_camera)  # the browser's newest camera, shaded when free
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
@@ -326,7 +327,8 @@ class LessonApp(TrameApp):
         """Send only the mesh's new colours to the browser."""
         colours = self.view.colour_array()
         self.state.view_colors = color_payload(self.view.mesh_actor.GetMapper(), colours.values,
-                                               name=colours.name, location=colours.location)
+                                               name=colours.name, location=colours.location,
+                                               vtk_array=getattr(colours.values, "VTKObject", None))
         self.state.flush()
 
     def _refresh_pixels(self) -> None:
@@ -482,11 +484,12 @@ class LessonApp(TrameApp):
                 scene = scene.replace("probe", [round(float(c), 6) for c in self.view.probe[0]])
         except (ValueError, TypeError, SceneError):
             return  # a malformed camera from the browser is ignored
+        moved = scene is not self.scene
         try:
-            if scene is not self.scene:
+            if moved:
                 self.scene = scene
                 self.view.update(scene, keep_view_angle=True, defer_glyphs=not final)
-                self._camera_moved = True
+                self._camera_moved = self._turn_unsynced = True
                 if scene.interpolation != "pixel":
                     self._push_colours()
                 record("turn", (time.perf_counter() - start) * 1000.0)  # a re-shade (not a camera already shown)
@@ -494,6 +497,9 @@ class LessonApp(TrameApp):
             log.exception("camera")
             self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
             return
+        if not moved and not (final and self._turn_unsynced):
+            return  # a camera already shown and synchronised (a click, a frame without motion): nothing to refresh
+        self._turn_unsynced = self._turn_unsynced and not final
         # the readout (and at the drag's end the arrows), once the colours have left for the browser
         try:
             loop = asyncio.get_running_loop()

@@ -35,6 +35,21 @@ window.phonglab = {
           const array = fields.getArrayByName(name);
           return array ? { data, array } : null;
         },
+        // The pushed values under the hash trame-vtk gives the server's array. A later full
+        // synchronisation of the scene (the end of a drag) then finds them at once: no second
+        // download, and vtk.js, seeing the array it already shows, does not rebuild the mesh.
+        remember(hash, values) {
+          const ctx = this.view && this.view.ctx;
+          if (!ctx || !ctx.getArray) return;
+          if (!ctx.phonglabPushed) {
+            const pushed = (ctx.phonglabPushed = new Map());
+            const getArray = ctx.getArray;
+            ctx.getArray = (sha, dataType, context) =>
+              pushed.has(sha) ? Promise.resolve(pushed.get(sha)) : getArray(sha, dataType, context);
+          }
+          ctx.phonglabPushed.clear(); // only the newest colours: the older ones are never asked for again
+          ctx.phonglabPushed.set(hash, values);
+        },
         apply() {
           const push = this.pending;
           if (!push || !push.data) return;
@@ -54,6 +69,7 @@ window.phonglab = {
           new Uint8Array(values.buffer).set(bytes);
           found.array.setData(values, found.array.getNumberOfComponents());
           found.data.modified();
+          if (push.hash) this.remember(push.hash, values);
           this.pending = null;
           // draw now rather than on the view's next debounced render
           if (this.view.renderer) this.view.renderer.resetCameraClippingRange();
