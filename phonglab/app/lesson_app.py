@@ -113,6 +113,7 @@ class LessonApp(TrameApp):
         self._view_ms = 0.0
         self._camera_moved = False
         self._turn_unsynced = False  # a turn re-shaded the view and the drag's end has not synchronised it yet
+        self._plan = (None, None)  # (scene, plan(scene)): planned once for the view's shading and the panels
         self._cameras = eye.Latest(self._apply_camera)  # the browser's newest camera, shaded when free
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
@@ -255,7 +256,7 @@ class LessonApp(TrameApp):
         """
         old = self.scene
         self.scene = scene
-        self.view.update(scene)
+        self.view.update(scene, scene_plan=self._planned(scene))
         if new_lesson and self._camera_moved:
             # the browser turned the view: back to the lesson's camera
             self.view.reset_camera()
@@ -345,12 +346,18 @@ class LessonApp(TrameApp):
         Image.fromarray(image).save(buffer, format="PNG", compress_level=1)
         self.state.pixel_src = "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
+    def _planned(self, scene):
+        """``plan(scene)``, made once per scene shown (the view's shading and the panels share it)."""
+        if self._plan[0] is not scene:
+            self._plan = (scene, plan(scene))
+        return self._plan[1]
+
     def _refresh_panels(self) -> None:
         """The verdict, the readout, the accuracy panel and the controls, for the scene on screen."""
         scene = self.scene
         s = self.state
-        # planner verdict, planned once and shared with the readout
-        verdict = plan(scene)
+        # planner verdict, planned once and shared with the readout (and the view's shading)
+        verdict = self._planned(scene)
         s.plan_computed = [{"effect": e, "reason": r} for e, r in verdict.computed]
         s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
         # probe readout and vector legend
@@ -488,7 +495,7 @@ class LessonApp(TrameApp):
         try:
             if moved:
                 self.scene = scene
-                self.view.update(scene, keep_view_angle=True, defer_glyphs=not final)
+                self.view.update(scene, keep_view_angle=True, defer_glyphs=not final, scene_plan=self._planned(scene))
                 self._camera_moved = self._turn_unsynced = True
                 if scene.interpolation != "pixel":
                     self._push_colours()
