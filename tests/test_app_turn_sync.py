@@ -92,3 +92,57 @@ def test_a_turn_plans_its_scene_once(app, monkeypatch):
     # the view's shading and the planner verdict share one plan (the readout plans its per-light parts)
     times = sum(scene is app.scene for scene in planned)
     assert times == 1, f"the turned scene was planned {times} times (eye {app.scene.camera.eye})"
+
+
+def _apply(base: bytes, push: dict) -> bytes:
+    """What the browser does with a push: the whole array, or the base with the changed rows replaced."""
+    if "data" in push:
+        return push["data"]
+    rows = np.frombuffer(push["rows"], dtype=np.uint32)
+    out = np.frombuffer(base, dtype=np.uint8).reshape(-1, 3).copy()
+    out[rows] = np.frombuffer(push["values"], dtype=np.uint8).reshape(-1, 3)
+    return out.tobytes()
+
+
+def test_a_turn_sends_only_the_rows_that_changed_once_the_browser_shows_the_last_push(app):
+    from phonglab.app import client
+
+    app.on_camera_move(_turned(app.scene, 10))
+    first = app.state.view_colors
+    assert "data" in first, "the first push must be whole: the browser has no pushed colours yet"
+    # the browser has not said what it shows: the next push is whole too
+    app.on_camera_move(_turned(app.scene, 5))
+    assert "data" in app.state.view_colors, sorted(app.state.view_colors)
+    shown = app.state.view_colors
+    app.state[client.SHOWN_KEY] = shown["hash"]  # what phonglab.js sets once it applied that push
+    app.on_camera_move(_turned(app.scene, 4))
+    change = app.state.view_colors
+    colours = app.view.colour_array().values
+    assert "data" not in change and change["base"] == shown["hash"], sorted(change)
+    rows = np.frombuffer(change["rows"], dtype=np.uint32)
+    assert 0 < len(rows) < len(colours) // 4, f"{len(rows)} of {len(colours)} rows sent"
+    assert _apply(shown["data"], change) == colours.tobytes(), "the change does not rebuild the new colours"
+    assert change["hash"] != shown["hash"]
+    # a browser that could not apply it says so (None): the next push is whole again
+    app.state[client.SHOWN_KEY] = None
+    app.on_camera_move(_turned(app.scene, 3))
+    assert "data" in app.state.view_colors
+
+
+def test_color_change_falls_back_to_the_whole_array():
+    from phonglab.app.client import color_change
+
+    base = np.zeros((10, 3), np.uint8)
+    payload = {"dataset": "d", "name": "rgb", "location": "point", "hash": "new", "data": b"x" * 30}
+    previous = {"dataset": "d", "name": "rgb", "location": "point", "hash": "old"}
+    most = base.copy()
+    most[:8] = 200  # most rows changed: the whole array is as cheap
+    assert color_change(payload, previous, most, base) is payload
+    assert color_change(payload, None, most, base) is payload
+    assert color_change(payload, {**previous, "location": "cell"}, most, base) is payload
+    assert color_change(payload, previous, np.zeros((11, 3), np.uint8), base) is payload
+    one = base.copy()
+    one[4] = (1, 2, 3)
+    change = color_change(payload, previous, one, base)
+    assert np.frombuffer(change["rows"], np.uint32).tolist() == [4] and change["values"] == bytes([1, 2, 3]), change
+    assert change["base"] == "old" and change["hash"] == "new" and "data" not in change, change

@@ -98,6 +98,46 @@ def color_payload(mapper, colors: np.ndarray, *, name: str, location: str, vtk_a
     return payload
 
 
+#: state key the browser sets to the ``hash`` of the pushed colours it shows (None when it could not apply a push)
+SHOWN_KEY = "view_colors_shown"
+
+
+def color_change(payload: dict, previous: dict | None, values: np.ndarray, base_values: np.ndarray | None) -> dict:
+    """``payload`` as a change from the previous push, when that is smaller: only the rows that differ.
+
+    Turning the view moves the highlight and nothing else (diffuse light does
+    not depend on the eye): about 1 % of a sphere's vertices change colour.
+    The change names the push it starts from (``base``: that push's
+    ``hash``) and carries ``rows`` (uint32 row numbers) and ``values`` (those
+    rows' new bytes) instead of ``data``. The browser applies it only to the
+    colours of that push; otherwise it ignores it, and the next full
+    synchronisation of the scene (the drag's end) brings the colours, and
+    it sets :data:`SHOWN_KEY` to None so that the next push is whole. The
+    caller sends a change only when :data:`SHOWN_KEY` is ``previous``'s hash.
+
+    Parameters
+    ----------
+    payload : dict
+        A :func:`color_payload` with its ``hash``.
+    previous : dict or None
+        The payload pushed before (None: nothing pushed yet).
+    values, base_values : ndarray
+        The new colours and those of ``previous``, row per point or cell.
+    """
+    if (previous is None or base_values is None or "hash" not in previous or "hash" not in payload
+            or any(previous.get(key) != payload[key] for key in ("dataset", "name", "location"))
+            or np.shape(base_values) != np.shape(values) or np.ndim(values) != 2):
+        return payload
+    values, base_values = np.asarray(values), np.asarray(base_values)
+    rows = np.flatnonzero((values != base_values).any(axis=1)).astype(np.uint32)
+    changed = np.ascontiguousarray(values[rows])
+    if rows.nbytes + changed.nbytes >= len(payload["data"]) // 2:
+        return payload  # most rows changed: the whole array is as cheap
+    change = {key: value for key, value in payload.items() if key != "data"}
+    change.update(base=previous["hash"], rows=rows.tobytes(), values=changed.tobytes())
+    return change
+
+
 class ArrowLetters(AbstractElement):
     """``<phonglab-letters>``: the letters N, L, R, V, H at the arrow tips of the enclosing local view.
 

@@ -114,6 +114,8 @@ class LessonApp(TrameApp):
         self._camera_moved = False
         self._turn_unsynced = False  # a turn re-shaded the view and the drag's end has not synchronised it yet
         self._plan = (None, None)  # (scene, plan(scene)): planned once for the view's shading and the panels
+        self._pushed = (None, None)  # the last colour push and its colours (a turn sends only what changed)
+        self.state[client.SHOWN_KEY] = None  # the hash of the pushed colours the browser shows (it sets it)
         self._cameras = eye.Latest(self._apply_camera)  # the browser's newest camera, shaded when free
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
@@ -256,7 +258,7 @@ class LessonApp(TrameApp):
         """
         old = self.scene
         self.scene = scene
-        self.view.update(scene, scene_plan=self._planned(scene))
+        self.view.update(scene)
         if new_lesson and self._camera_moved:
             # the browser turned the view: back to the lesson's camera
             self.view.reset_camera()
@@ -268,6 +270,7 @@ class LessonApp(TrameApp):
             self._push_colours()
         else:
             self.html_view.update()
+            self._pushed = (None, None)  # the browser's colours now come from this synchronisation
             if new_lesson or (old is not None and old.camera != scene.camera):
                 self.html_view.push_camera()
         self._refresh_pixels()
@@ -324,12 +327,18 @@ class LessonApp(TrameApp):
         return {"name": name, "title": m.title, "looks_like": m.looks_like, "wrong": m.wrong, "right": m.right,
                 "available": True}
 
-    def _push_colours(self) -> None:
-        """Send only the mesh's new colours to the browser."""
+    def _push_colours(self, change: bool = False) -> None:
+        """Send only the mesh's new colours to the browser (with ``change``, only the rows that changed)."""
         colours = self.view.colour_array()
-        self.state.view_colors = color_payload(self.view.mesh_actor.GetMapper(), colours.values,
-                                               name=colours.name, location=colours.location,
-                                               vtk_array=getattr(colours.values, "VTKObject", None))
+        payload = color_payload(self.view.mesh_actor.GetMapper(), colours.values,
+                                name=colours.name, location=colours.location,
+                                vtk_array=getattr(colours.values, "VTKObject", None))
+        previous, base_values = self._pushed
+        if change and previous is not None and self.state[client.SHOWN_KEY] == previous.get("hash"):
+            # the browser shows the last push: the rows that changed are enough
+            payload = client.color_change(payload, previous, colours.values, base_values)
+        self._pushed = (payload, colours.values.copy())
+        self.state.view_colors = payload
         self.state.flush()
 
     def _refresh_pixels(self) -> None:
@@ -498,7 +507,7 @@ class LessonApp(TrameApp):
                 self.view.update(scene, keep_view_angle=True, defer_glyphs=not final, scene_plan=self._planned(scene))
                 self._camera_moved = self._turn_unsynced = True
                 if scene.interpolation != "pixel":
-                    self._push_colours()
+                    self._push_colours(change=True)
                 record("turn", (time.perf_counter() - start) * 1000.0)  # a re-shade (not a camera already shown)
         except Exception as exc:
             log.exception("camera")
