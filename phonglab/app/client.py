@@ -59,7 +59,14 @@ def dataset_id(mapper) -> str:
     return f"{reference_id(mapper)}-dataset"
 
 
-def color_payload(mapper, colors: np.ndarray, *, name: str, location: str) -> dict:
+def array_hash(vtk_array) -> str:
+    """The hash under which trame-vtk sends ``vtk_array`` to a browser (and caches it, so it is not hashed twice)."""
+    from trame_vtk.modules.vtk.serializers.helpers import digest
+
+    return digest(vtk_array)
+
+
+def color_payload(mapper, colors: np.ndarray, *, name: str, location: str, vtk_array=None) -> dict:
     """The state value for :class:`ColorPush`: which array, and its new bytes.
 
     Parameters
@@ -72,15 +79,63 @@ def color_payload(mapper, colors: np.ndarray, *, name: str, location: str) -> di
         The array's name.
     location : {"point", "cell"}
         Point or cell data.
+    vtk_array : vtkDataArray, optional
+        The array itself, holding ``colors``: the payload then carries its
+        trame-vtk ``hash``, and the browser files the bytes under it, so the
+        next full synchronisation of the scene neither downloads the array
+        again nor rebuilds the mesh.
     """
     if location not in ("point", "cell"):
         raise ValueError(f"location must be 'point' or 'cell', got {location!r}")
-    return {
+    payload = {
         "dataset": dataset_id(mapper),
         "name": name,
         "location": location,
         "data": np.ascontiguousarray(colors).tobytes(),
     }
+    if vtk_array is not None:
+        payload["hash"] = array_hash(vtk_array)
+    return payload
+
+
+#: state key the browser sets to the ``hash`` of the pushed colours it shows (None when it could not apply a push)
+SHOWN_KEY = "view_colors_shown"
+
+
+def color_change(payload: dict, previous: dict | None, values: np.ndarray, base_values: np.ndarray | None) -> dict:
+    """``payload`` as a change from the previous push, when that is smaller: only the rows that differ.
+
+    Turning the view moves the highlight and nothing else (diffuse light does
+    not depend on the eye): about 1 % of a sphere's vertices change colour.
+    The change names the push it starts from (``base``: that push's
+    ``hash``) and carries ``rows`` (uint32 row numbers) and ``values`` (those
+    rows' new bytes) instead of ``data``. The browser applies it only to the
+    colours of that push; otherwise it ignores it, and the next full
+    synchronisation of the scene (the drag's end) brings the colours, and
+    it sets :data:`SHOWN_KEY` to None so that the next push is whole. The
+    caller sends a change only when :data:`SHOWN_KEY` is ``previous``'s hash.
+
+    Parameters
+    ----------
+    payload : dict
+        A :func:`color_payload` with its ``hash``.
+    previous : dict or None
+        The payload pushed before (None: nothing pushed yet).
+    values, base_values : ndarray
+        The new colours and those of ``previous``, row per point or cell.
+    """
+    if (previous is None or base_values is None or "hash" not in previous or "hash" not in payload
+            or any(previous.get(key) != payload[key] for key in ("dataset", "name", "location"))
+            or np.shape(base_values) != np.shape(values) or np.ndim(values) != 2):
+        return payload
+    values, base_values = np.asarray(values), np.asarray(base_values)
+    rows = np.flatnonzero((values != base_values).any(axis=1)).astype(np.uint32)
+    changed = np.ascontiguousarray(values[rows])
+    if rows.nbytes + changed.nbytes >= len(payload["data"]) // 2:
+        return payload  # most rows changed: the whole array is as cheap
+    change = {key: value for key, value in payload.items() if key != "data"}
+    change.update(base=previous["hash"], rows=rows.tobytes(), values=changed.tobytes())
+    return change
 
 
 class ArrowLetters(AbstractElement):

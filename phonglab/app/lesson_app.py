@@ -114,6 +114,10 @@ class LessonApp(TrameApp):
         self._panels_handle = None
         self._view_ms = 0.0
         self._camera_moved = False
+        self._turn_unsynced = False  # a turn re-shaded the view and the drag's end has not synchronised it yet
+        self._plan = (None, None)  # (scene, plan(scene)): planned once for the view's shading and the panels
+        self._pushed = (None, None)  # the last colour push and its colours (a turn sends only what changed)
+        self.state[client.SHOWN_KEY] = None  # the hash of the pushed colours the browser shows (it sets it)
         self._cameras = eye.Latest(self._apply_camera)  # the browser's newest camera, shaded when free
         self.address = address.ViewAddress()  # the settings in the page's address
         self.state.trame__title = "phonglab — the Phong illumination model"
@@ -270,6 +274,7 @@ class LessonApp(TrameApp):
             self._push_colours()
         else:
             self.html_view.update()
+            self._pushed = (None, None)  # the browser's colours now come from this synchronisation
             if new_lesson or (old is not None and old.camera != scene.camera):
                 self.html_view.push_camera()
         self._refresh_pixels()
@@ -326,11 +331,18 @@ class LessonApp(TrameApp):
         return {"name": name, "title": m.title, "looks_like": m.looks_like, "wrong": m.wrong, "right": m.right,
                 "available": True}
 
-    def _push_colours(self) -> None:
-        """Send only the mesh's new colours to the browser."""
+    def _push_colours(self, change: bool = False) -> None:
+        """Send only the mesh's new colours to the browser (with ``change``, only the rows that changed)."""
         colours = self.view.colour_array()
-        self.state.view_colors = color_payload(self.view.mesh_actor.GetMapper(), colours.values,
-                                               name=colours.name, location=colours.location)
+        payload = color_payload(self.view.mesh_actor.GetMapper(), colours.values,
+                                name=colours.name, location=colours.location,
+                                vtk_array=getattr(colours.values, "VTKObject", None))
+        previous, base_values = self._pushed
+        if change and previous is not None and self.state[client.SHOWN_KEY] == previous.get("hash"):
+            # the browser shows the last push: the rows that changed are enough
+            payload = client.color_change(payload, previous, colours.values, base_values)
+        self._pushed = (payload, colours.values.copy())
+        self.state.view_colors = payload
         self.state.flush()
 
     def _refresh_pixels(self) -> None:
@@ -351,12 +363,18 @@ class LessonApp(TrameApp):
         Image.fromarray(image).save(buffer, format="PNG", compress_level=1)
         self.state.pixel_src = "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
+    def _planned(self, scene):
+        """``plan(scene)``, made once per scene shown (the view's shading and the panels share it)."""
+        if self._plan[0] is not scene:
+            self._plan = (scene, plan(scene))
+        return self._plan[1]
+
     def _refresh_panels(self) -> None:
         """The verdict, the readout, the accuracy panel and the controls, for the scene on screen."""
         scene = self.scene
         s = self.state
-        # planner verdict, planned once and shared with the readout
-        verdict = plan(scene)
+        # planner verdict, planned once and shared with the readout (and the view's shading)
+        verdict = self._planned(scene)
         s.plan_computed = [{"effect": e, "reason": r} for e, r in verdict.computed]
         s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
         # probe readout and vector legend
@@ -494,18 +512,22 @@ class LessonApp(TrameApp):
                 scene = scene.replace("probe", [round(float(c), 6) for c in self.view.probe[0]])
         except (ValueError, TypeError, SceneError):
             return  # a malformed camera from the browser is ignored
+        moved = scene is not self.scene
         try:
-            if scene is not self.scene:
+            if moved:
                 self.scene = scene
-                self.view.update(scene, keep_view_angle=True, defer_glyphs=not final)
-                self._camera_moved = True
+                self.view.update(scene, keep_view_angle=True, defer_glyphs=not final, scene_plan=self._planned(scene))
+                self._camera_moved = self._turn_unsynced = True
                 if scene.interpolation != "pixel":
-                    self._push_colours()
+                    self._push_colours(change=True)
                 record("turn", (time.perf_counter() - start) * 1000.0)  # a re-shade (not a camera already shown)
         except Exception as exc:
             log.exception("camera")
             self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
             return
+        if not moved and not (final and self._turn_unsynced):
+            return  # a camera already shown and synchronised (a click, a frame without motion): nothing to refresh
+        self._turn_unsynced = self._turn_unsynced and not final
         # the readout (and at the drag's end the arrows), once the colours have left for the browser
         try:
             loop = asyncio.get_running_loop()

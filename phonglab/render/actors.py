@@ -60,18 +60,20 @@ def show_mesh(mapper: vtk.vtkPolyDataMapper, mesh: pv.PolyData) -> None:
     mapper.ScalarVisibilityOn()
 
 
-def colour_mesh(mapper: vtk.vtkPolyDataMapper, mesh: pv.PolyData, scene, term: str, mistake: str | None) -> None:
+def colour_mesh(mapper: vtk.vtkPolyDataMapper, mesh: pv.PolyData, scene, term: str, mistake: str | None, *,
+                scene_plan=None) -> None:
     """Shade ``mesh`` with the core and write the colours in place: per cell (flat) or per point.
 
-    ``term`` is ``"color"`` or one term; ``mistake`` a common mistake's name or None.
+    ``term`` is ``"color"`` or one term; ``mistake`` a common mistake's name or None; ``scene_plan``
+    ``plan(scene)`` if the caller has it (None: planned here).
     """
     if scene.interpolation == "flat":
-        rgb = shading.face_colors(scene, mesh, (term,), mistake)[term]
+        rgb = shading.face_colors(scene, mesh, (term,), mistake, scene_plan=scene_plan)[term]
         overwrite_array(mesh.cell_data, glyphs.COLOR_ARRAY, rgb)
         mapper.SetScalarModeToUseCellData()
     else:
         # gouraud, and the interactive preview of pixel mode
-        rgb = shading.vertex_colors(scene, mesh, (term,), mistake)[term]
+        rgb = shading.vertex_colors(scene, mesh, (term,), mistake, scene_plan=scene_plan)[term]
         overwrite_array(mesh.point_data, glyphs.COLOR_ARRAY, rgb)
         mapper.SetScalarModeToUsePointData()
     mapper.Modified()

@@ -34,7 +34,7 @@ from phonglab.render.mesh import face_centroids_normals
 TERMS = ("color", "ambient", "diffuse", "specular")
 
 
-def shade(scene, points, normals, mistake: str | None = None):
+def shade(scene, points, normals, mistake: str | None = None, *, scene_plan=None):
     """The core's shading of ``points`` with ``normals`` under ``scene``.
 
     A thin wrapper over :func:`phonglab.scene.shade` (which passes the
@@ -48,6 +48,9 @@ def shade(scene, points, normals, mistake: str | None = None):
         None shades correctly. A name from :data:`phonglab.teaching.MISTAKES`
         shades with that deliberately wrong variant
         (:func:`phonglab.scene.shade` with ``mistake=``).
+    scene_plan : phonglab.scene.ScenePlan, optional
+        ``plan(scene)`` when the caller has made it already (it is not made
+        again); None plans here. The colours are the same either way.
 
     Raises
     ------
@@ -56,7 +59,7 @@ def shade(scene, points, normals, mistake: str | None = None):
     """
     from phonglab.scene.planner import shade as scene_shade
 
-    return scene_shade(scene, points, normals, mistake=mistake)
+    return scene_shade(scene, points, normals, mistake=mistake, scene_plan=scene_plan)
 
 
 def get_mistake(name: str):
@@ -127,9 +130,14 @@ def to_rgb8(values) -> np.ndarray:
     return np.rint(scaled).astype(np.uint8)
 
 
-def vertex_colors(scene, mesh, terms=("color",), mistake: str | None = None) -> dict[str, np.ndarray]:
-    """Gouraud: uint8 RGB per mesh point, for each requested term (with ``mistake``, if given)."""
-    shading = shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"]), mistake)
+def vertex_colors(scene, mesh, terms=("color",), mistake: str | None = None, *,
+                  scene_plan=None) -> dict[str, np.ndarray]:
+    """Gouraud: uint8 RGB per mesh point, for each requested term (with ``mistake``, if given).
+
+    ``scene_plan``: ``plan(scene)`` if the caller has it (see :func:`shade`).
+    """
+    shading = shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"]), mistake,
+                    scene_plan=scene_plan)
     return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
 
 
@@ -151,15 +159,19 @@ def _faces(mesh):
     return _last_faces[1]
 
 
-def face_colors(scene, mesh, terms=("color",), mistake: str | None = None) -> dict[str, np.ndarray]:
-    """Flat: uint8 RGB per triangle, shaded at its centroid with its face normal (with ``mistake``, if given)."""
+def face_colors(scene, mesh, terms=("color",), mistake: str | None = None, *,
+                scene_plan=None) -> dict[str, np.ndarray]:
+    """Flat: uint8 RGB per triangle, shaded at its centroid with its face normal (with ``mistake``, if given).
+
+    ``scene_plan``: ``plan(scene)`` if the caller has it (see :func:`shade`).
+    """
     centroids, normals = _faces(mesh)
-    shading = shade(scene, centroids, normals, mistake)
+    shading = shade(scene, centroids, normals, mistake, scene_plan=scene_plan)
     return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
 
 
 def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
-                 mistake: str | None = None) -> dict[str, np.ndarray]:
+                 mistake: str | None = None, *, scene_plan=None) -> dict[str, np.ndarray]:
     """Per pixel: a (height, width, 3) uint8 image per term, background where uncovered.
 
     Parameters
@@ -174,9 +186,11 @@ def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
         A deliberately wrong shading to use (see :func:`shade`). A mistake
         with ``needs_raw_normals`` is given the interpolated normals as they
         came (:attr:`GBuffer.raw_normals`), so its bug shows.
+    scene_plan : phonglab.scene.ScenePlan, optional
+        ``plan(scene)`` if the caller has it (see :func:`shade`).
     """
     mask = gbuffer.mask
-    shading = _pixel_shading(scene, gbuffer, mistake)
+    shading = _pixel_shading(scene, gbuffer, mistake, scene_plan=scene_plan)
     back = to_rgb8(background)
     out = {}
     for t in terms:
@@ -187,7 +201,7 @@ def pixel_colors(scene, gbuffer: GBuffer, background, terms=("color",),
     return out
 
 
-def _pixel_shading(scene, gbuffer: GBuffer, mistake: str | None):
+def _pixel_shading(scene, gbuffer: GBuffer, mistake: str | None, *, scene_plan=None):
     """The core's ``Shading`` of a G-buffer's covered pixels (raw normals for a mistake that needs them)."""
     mask = gbuffer.mask
     normals = gbuffer.normals
@@ -197,7 +211,7 @@ def _pixel_shading(scene, gbuffer: GBuffer, mistake: str | None):
             raise ValueError(f"gbuffer: the mistake {mistake!r} needs the raw interpolated normals, "
                              "and this G-buffer has none")
         normals = gbuffer.raw_normals
-    return shade(scene, gbuffer.positions[mask], normals[mask], mistake)
+    return shade(scene, gbuffer.positions[mask], normals[mask], mistake, scene_plan=scene_plan)
 
 
 def pixel_linear(scene, gbuffer: GBuffer, term: str = "color", mistake: str | None = None) -> np.ndarray:

@@ -155,6 +155,7 @@ class SceneView:
         self._gbuffers = pixels.GBufferCache()
         self._keep_view_angle = False  # the camera came from a browser: its view angle is not refitted
         self._stale_glyphs = set()  # scene fields whose change the glyphs do not show yet (defer_glyphs)
+        self._scene_plan = (None, None)  # (scene, plan(scene)) from update(scene_plan=), used while it shows
 
         # window, renderer, camera
         self.render_window = make_render_window(size, offscreen=offscreen)
@@ -211,7 +212,7 @@ class SceneView:
     # ------------------------------------------------------------------
     # updates
 
-    def update(self, scene, *, keep_view_angle: bool = False, defer_glyphs: bool = False) -> None:
+    def update(self, scene, *, keep_view_angle: bool = False, defer_glyphs: bool = False, scene_plan=None) -> None:
         """Show ``scene``, recomputing only what differs from the current one.
 
         The mesh's colour array is overwritten in place; actors are never
@@ -231,7 +232,13 @@ class SceneView:
             later (a drag of the view: the browser gets only the colours until
             it ends). The next :meth:`update` without it, :meth:`refresh_glyphs`
             or a render reshapes them.
+        scene_plan : phonglab.scene.ScenePlan, optional
+            ``plan(scene)`` when the caller has made it (the app plans for its
+            panels): the core's shading uses it instead of planning again.
+            The colours are the same either way.
         """
+        if scene_plan is not None:
+            self._scene_plan = (scene, scene_plan)
         old, self.scene = self.scene, scene
         if old.camera != scene.camera:
             self._keep_view_angle = bool(keep_view_angle)
@@ -435,7 +442,9 @@ class SceneView:
 
     def _recolor(self) -> None:
         """Recompute the mesh colours with the core and write them into the arrays."""
-        actors.colour_mesh(self._mapper, self.mesh, self.scene, self.term, self.mistake)
+        planned_for, scene_plan = self._scene_plan
+        actors.colour_mesh(self._mapper, self.mesh, self.scene, self.term, self.mistake,
+                           scene_plan=scene_plan if planned_for is self.scene else None)
         # the material's opacity on the actor too: a browser's copy (vtk.js) blends with it
         actors.set_opacity(self._mesh_actor, self.scene.material.opacity)
 

@@ -35,25 +35,75 @@ window.phonglab = {
           const array = fields.getArrayByName(name);
           return array ? { data, array } : null;
         },
+        // The pushed values under the hash trame-vtk gives the server's array. A later full
+        // synchronisation of the scene (the end of a drag) then finds them at once: no second
+        // download, and vtk.js, seeing the array it already shows, does not rebuild the mesh.
+        remember(hash, values) {
+          const ctx = this.view && this.view.ctx;
+          if (!ctx || !ctx.getArray) return;
+          if (!ctx.phonglabPushed) {
+            const pushed = (ctx.phonglabPushed = new Map());
+            const getArray = ctx.getArray;
+            ctx.getArray = (sha, dataType, context) =>
+              pushed.has(sha) ? Promise.resolve(pushed.get(sha)) : getArray(sha, dataType, context);
+          }
+          ctx.phonglabPushed.clear(); // only the newest colours: the older ones are never asked for again
+          ctx.phonglabPushed.set(hash, values);
+        },
+        // tell the server which pushed colours are on screen (it then sends only the rows that change)
+        shown(hash) {
+          if (window.trame && window.trame.state) window.trame.state.set("view_colors_shown", hash);
+        },
+        // the bytes of a msgpack binary value (ArrayBuffer or a view into the message)
+        bytesOf(raw) {
+          return raw instanceof ArrayBuffer ? new Uint8Array(raw) : new Uint8Array(raw.buffer, raw.byteOffset, raw.byteLength);
+        },
+        // a whole array: a new typed array (never overwrite: the old one may be cached by hash)
+        whole(push, old) {
+          const bytes = this.bytesOf(push.data);
+          // a size mismatch means the geometry changed: the full sync brings the colours
+          if (bytes.byteLength !== old.byteLength) return null;
+          const values = new old.constructor(old.length);
+          new Uint8Array(values.buffer).set(bytes);
+          return values;
+        },
+        // a change from the push `base`: its colours with the rows `rows` replaced by `values`;
+        // null when the colours shown are not that push's (the next full sync brings them)
+        changed(push, old) {
+          const pushed = this.view.ctx && this.view.ctx.phonglabPushed;
+          if (!pushed || pushed.get(push.base) !== old) return null;
+          const rows = new Uint32Array(this.bytesOf(push.rows).slice().buffer);
+          const changed = this.bytesOf(push.values);
+          const values = new old.constructor(old.length);
+          values.set(old);
+          const bytes = new Uint8Array(values.buffer);
+          const width = changed.byteLength / Math.max(rows.length, 1);
+          if (!Number.isInteger(width) || rows.length * width > bytes.byteLength) return null;
+          for (let i = 0; i < rows.length; i++) {
+            bytes.set(changed.subarray(i * width, (i + 1) * width), rows[i] * width);
+          }
+          return values;
+        },
         apply() {
           const push = this.pending;
-          if (!push || !push.data) return;
+          if (!push || !(push.data || push.rows)) return;
           const found = this.findArray(push.dataset, push.name, push.location);
           if (!found) {
             // the first scene may still be on its way: try again next frame
             if (this.tries++ < 120) requestAnimationFrame(() => this.apply());
             return;
           }
-          const raw = push.data;
-          const bytes = raw instanceof ArrayBuffer ? new Uint8Array(raw) : new Uint8Array(raw.buffer, raw.byteOffset, raw.byteLength);
           const old = found.array.getData();
-          // a size mismatch means the geometry changed: the full sync brings the colours
-          if (bytes.byteLength !== old.byteLength) return;
-          // a new typed array (never overwrite: the old one may be cached by hash)
-          const values = new old.constructor(old.length);
-          new Uint8Array(values.buffer).set(bytes);
+          const values = push.rows ? this.changed(push, old) : this.whole(push, old);
+          if (!values) {
+            this.pending = null;
+            this.shown(null); // the server sends the next colours whole
+            return;
+          }
           found.array.setData(values, found.array.getNumberOfComponents());
           found.data.modified();
+          if (push.hash) this.remember(push.hash, values);
+          this.shown(push.hash || null);
           this.pending = null;
           // draw now rather than on the view's next debounced render
           if (this.view.renderer) this.view.renderer.resetCameraClippingRange();
