@@ -94,3 +94,13 @@ def test_the_mesh_goes_to_the_browser_without_its_normals(view):
     assert names == [COLOR_ARRAY], f"the mesh sends {names}"
     # the server keeps the normals for the core's shading
     assert view.mesh.point_data["Normals"].shape == (view.mesh.n_points, 3)
+
+
+def test_letters_the_mesh_hides_are_sent_as_behind():
+    from phonglab.app.client import arrow_tips
+
+    tips = [("N", (0, 0, 1), (0, 0, 2)), ("L", (0, 0, 1), (1, 0, 2))]
+    legend = [{"letter": "N", "color": "#112233"}, {"letter": "L", "color": "#445566"}]
+    sent = arrow_tips(tips, legend, hidden={"L"})
+    assert [(t["letter"], t["behind"]) for t in sent] == [("N", False), ("L", True)], sent
+    assert [t["color"] for t in sent] == ["#112233", "#445566"], sent

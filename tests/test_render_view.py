@@ -433,3 +433,17 @@ def test_headlight_over_the_probe_gives_every_letter_its_own_line():
         assert len(shown) == 5 and len(set(offsets)) == 5, (shown, offsets)
     finally:
         v.close()
+
+
+def test_letters_of_arrows_the_mesh_hides_are_reported_hidden():
+    # probe on the near side of the sphere: every tip in sight; turned to look from behind, the sphere hides them
+    view = SceneView(red_sphere(), size=SIZE)
+    try:
+        shown = {letter for letter, _, _ in view.arrow_tips()}
+        assert shown and view.hidden_letters() == set(), (shown, view.hidden_letters())
+        view.set_camera(eye=(0.0, 0.0, -5.0), focal_point=(0.0, 0.0, 0.0))
+        hidden = view.hidden_letters()
+        probe = view.probe[0]
+    finally:
+        view.close()
+    assert hidden == shown, f"probe at {probe}, camera at (0, 0, -5): hidden {sorted(hidden)} of {sorted(shown)}"

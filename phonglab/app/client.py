@@ -161,7 +161,7 @@ class ArrowLetters(AbstractElement):
         self._attr_names += ["tips", "hidden"]
 
 
-def arrow_tips(tips, legend) -> list[dict]:
+def arrow_tips(tips, legend, hidden=()) -> list[dict]:
     """The state value for :class:`ArrowLetters`.
 
     Parameters
@@ -170,7 +170,10 @@ def arrow_tips(tips, legend) -> list[dict]:
         As :meth:`phonglab.render.SceneView.arrow_tips` gives them (world coordinates).
     legend : sequence of dict
         The page's legend entries (``letter``, ``color``): each letter's colour.
+    hidden : collection of str
+        Letters whose arrow tip the mesh hides from the camera
+        (:meth:`phonglab.render.SceneView.hidden_letters`): marked ``behind``, not drawn.
     """
     colours = {entry["letter"]: entry["color"] for entry in legend}
     return [{"letter": letter, "base": [round(c, 6) for c in base], "tip": [round(c, 6) for c in tip],
-             "color": colours.get(letter, "#ffffff")} for letter, base, tip in tips]
+             "color": colours.get(letter, "#ffffff"), "behind": letter in hidden} for letter, base, tip in tips]

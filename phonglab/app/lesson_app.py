@@ -382,7 +382,7 @@ class LessonApp(TrameApp):
         s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
                                   scene_plan=verdict, mistake=self.view.mistake)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
-        s.arrow_tips = client.arrow_tips(self.view.arrow_tips(), s.legend)
+        s.arrow_tips = client.arrow_tips(self.view.arrow_tips(), s.legend, hidden=self.view.hidden_letters())
         self.accuracy.follow(scene)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)

@@ -223,9 +223,11 @@ class _Page:
                     html.P("{{ mistake_note }}", v_if="mistake_note", classes="phonglab-note phonglab-mistake-note")
                 with html.Div(v_if="question_html", classes="phonglab-question"):
                     html.H3("Check yourself")
-                    html.Div(v_html=("question_html",))
                     if self.handlers.check_answer is not None:  # answer first, then the explanation
                         check_question.build(self.handlers.check_answer)
+                    # the lesson's open question, which the explanation answers, set apart from the check's
+                    html.H4("Think about it", v_if="check", classes="phonglab-think")
+                    html.Div(v_html=("question_html",), classes="phonglab-open-question")
                     v3.VBtn("{{ show_answer ? 'Hide answer' : 'Show answer' }}", size="small", variant="text",
                             v_if=check_question.REVEAL_IF,
                             color="primary", click="show_answer = !show_answer", classes="phonglab-answer-btn px-0")

@@ -659,6 +659,18 @@ class SceneView:
         base = tuple(float(c) for c in self._arrows.point)
         return [(letter, base, tuple(float(c) for c in self._arrows.tip(letter))) for letter in self._arrows.shown()]
 
+    def hidden_letters(self) -> set[str]:
+        """The letters whose arrow tip the mesh hides from the window's camera (say, a probe turned to the far side)."""
+        origin = np.asarray(self.renderer.GetActiveCamera().GetPosition(), dtype=float)
+        hidden = set()
+        for letter in self._arrows.shown():
+            tip = self._arrows.tip(letter)
+            hit = picking.ray_hit(self.mesh, origin, tip)
+            reach = float(np.linalg.norm(tip - origin))
+            if hit is not None and np.linalg.norm(hit[0] - origin) < reach * (1 - 1e-4):
+                hidden.add(letter)
+        return hidden
+
     def legend(self) -> list[tuple[str, str, str]]:
         """The vectors shown, for a legend drawn elsewhere (HTML): (letter, meaning, "#rrggbb")."""
         return self._arrows.legend()

@@ -62,6 +62,10 @@ def test_check_question_gives_feedback_then_offers_the_explanation(code_page):
     page = code_page.page
     page.wait_for_selector(".phonglab-check-choice", timeout=30_000)
     assert not page.locator(".phonglab-answer-btn").count(), "the explanation is offered before any answer"
+    # one question to answer: the check's first; the lesson's open question after it, labelled apart
+    block = page.locator(".phonglab-question").inner_text()
+    check_at, think_at = block.find("What is n·l where"), block.find("Think about it")
+    assert 0 <= check_at < think_at, block
     page.locator(".phonglab-check-choice", has_text="-1").locator("input").check()
     page.locator(".phonglab-check-btn").click()
     feedback = wait_for(lambda: page.locator(".phonglab-check-feedback").all_inner_texts(), "the feedback")

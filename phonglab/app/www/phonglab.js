@@ -173,7 +173,8 @@ window.phonglab = {
             return [canvas.offsetLeft + d[0] * w, canvas.offsetTop + (1 - d[1]) * h];
           };
           const placed = [];
-          for (const t of this.tips || []) {
+          // a letter whose arrow tip the mesh hides (the server casts a ray to it) is not drawn
+          for (const t of (this.tips || []).filter((x) => !x.behind)) {
             const base = screen(t.base), tip = screen(t.tip);
             let dx = tip[0] - base[0], dy = tip[1] - base[1];
             const length = Math.hypot(dx, dy);
