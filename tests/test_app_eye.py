@@ -11,9 +11,10 @@ import pytest
 
 import phonglab as pl
 from phonglab.app import eye
-from phonglab.app.lesson_app import LessonApp
 from phonglab.bench.scenes import lesson, red_sphere, red_sphere_tables
 from phonglab.scene import SceneError
+
+from app_support import browser_camera, open_app
 
 SPHERE = lesson(
     """
@@ -26,35 +27,18 @@ probe = [0.3, 0.4, 0.866]
     "# Sphere\n",
 )
 
-
-def _turned(scene, degrees: float) -> dict:
-    """A browser camera: the scene's eye turned ``degrees`` about the up axis, as vtk.js sends it."""
-    c = scene.camera
-    a = np.radians(degrees)
-    offset = np.subtract(c.eye, c.focal_point)
-    turn = np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
-    return {"position": (np.add(c.focal_point, turn @ offset)).tolist(), "focalPoint": list(c.focal_point),
-            "viewUp": list(c.up), "viewAngle": c.view_angle}
-
-
 @pytest.fixture
 def app(tmp_path):
-    from trame.app import get_server
-
-    (tmp_path / "04-sphere.md").write_text(SPHERE, encoding="utf-8")
-    server = get_server(f"test-eye-{tmp_path.name}", client_type="vue3")
-    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
+    application = open_app(tmp_path, "04-sphere.md", SPHERE, "test-eye")
     yield application
     application.close()
 
-
 def test_scene_camera_takes_the_browsers_camera_and_keeps_infinite_viewer():
     scene = red_sphere(12).replace("camera.infinite_viewer", True)
-    turned = eye.scene_camera(scene, _turned(scene, 30))
-    assert turned.camera.eye == pytest.approx(_turned(scene, 30)["position"]), turned.camera
+    turned = eye.scene_camera(scene, browser_camera(scene, 30))
+    assert turned.camera.eye == pytest.approx(browser_camera(scene, 30)["position"]), turned.camera
     assert turned.camera.infinite_viewer is True
-    assert eye.scene_camera(scene, _turned(scene, 0)) is scene
-
+    assert eye.scene_camera(scene, browser_camera(scene, 0)) is scene
 
 @pytest.mark.parametrize("camera, error", [
     ([1, 2, 3], ValueError),
@@ -67,7 +51,6 @@ def test_scene_camera_takes_the_browsers_camera_and_keeps_infinite_viewer():
 def test_a_bad_browser_camera_is_refused(camera, error):
     with pytest.raises(error):
         eye.scene_camera(red_sphere(12), camera)
-
 
 def test_latest_drops_stale_cameras_and_keeps_final():
     seen = []
@@ -85,12 +68,11 @@ def test_latest_drops_stale_cameras_and_keeps_final():
     assert seen == [(6, True)], seen
     assert (latest.offered, latest.applied) == (7, 1)
 
-
 def test_turning_the_view_reshades_for_the_new_eye(app):
     before = app.scene
     colours = app.view.colour_array().values.copy()
     rv = {d["name"]: d["value"] for d in app.state.readout["dots"]}["r·v"]
-    camera = _turned(before, 40)
+    camera = browser_camera(before, 40)
     app.on_camera(camera)
     scene = app.scene
     assert scene.camera.eye == pytest.approx(camera["position"]), scene.camera
@@ -116,16 +98,14 @@ def test_turning_the_view_reshades_for_the_new_eye(app):
     assert vtk_camera.GetPosition() == pytest.approx(camera["position"])
     assert vtk_camera.GetViewAngle() == pytest.approx(camera["viewAngle"])
 
-
 def test_moving_the_eye_slider_moves_the_camera_and_a_new_lesson_restores_it(app):
-    app.on_camera(_turned(app.scene, 25))
+    app.on_camera(browser_camera(app.scene, 25))
     app._on_control("camera__azimuth", -10.0)
-    expected = _turned(app.entry.scene, -10)["position"]
+    expected = browser_camera(app.entry.scene, -10)["position"]
     assert app.scene.camera.eye == pytest.approx(expected, abs=1e-6), app.scene.camera
     assert app.view.renderer.GetActiveCamera().GetPosition() == pytest.approx(expected, abs=1e-6)
     app.reset_lesson()
     assert app.scene.camera == app.entry.scene.camera
-
 
 def test_the_page_gets_every_arrows_tip_for_its_letters_and_they_follow_the_eye(app):
     def tips():
@@ -133,7 +113,7 @@ def test_the_page_gets_every_arrows_tip_for_its_letters_and_they_follow_the_eye(
 
     assert set(tips()) == set("NLRVH"), app.state.arrow_tips
     colours = {entry["letter"]: entry["color"] for entry in app.state.legend}
-    app.on_camera(_turned(app.scene, 35))
+    app.on_camera(browser_camera(app.scene, 35))
     shown = tips()
     point, _ = app.view.probe
     for letter, direction in (("V", app.view.probe_vectors.v), ("N", app.view.probe_vectors.n)):

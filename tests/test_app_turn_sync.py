@@ -10,8 +10,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from phonglab.app.lesson_app import LessonApp
 from phonglab.bench.scenes import lesson, red_sphere_tables
+
+from app_support import browser_camera, open_app
 
 SPHERE = lesson(
     """
@@ -25,23 +26,10 @@ probe = [0.3, 0.4, 0.866]
 )
 
 
-def _turned(scene, degrees: float) -> dict:
-    """A browser camera: the scene's eye turned ``degrees`` about the up axis."""
-    c = scene.camera
-    a = np.radians(degrees)
-    offset = np.subtract(c.eye, c.focal_point)
-    turn = np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
-    return {"position": (np.add(c.focal_point, turn @ offset)).tolist(), "focalPoint": list(c.focal_point),
-            "viewUp": list(c.up), "viewAngle": c.view_angle}
-
 
 @pytest.fixture
 def app(tmp_path):
-    from trame.app import get_server
-
-    (tmp_path / "04-sphere.md").write_text(SPHERE, encoding="utf-8")
-    server = get_server(f"test-turn-sync-{tmp_path.name}", client_type="vue3")
-    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
+    application = open_app(tmp_path, "04-sphere.md", SPHERE, "test-turn-sync")
     yield application
     application.close()
 
@@ -50,7 +38,7 @@ def test_the_colour_push_carries_the_hash_trame_vtk_gives_the_array(app):
     from trame_vtk.modules.vtk.serializers.utils import hash_data_array
 
     for degrees in (20, -15):
-        app.on_camera(_turned(app.scene, degrees))
+        app.on_camera(browser_camera(app.scene, degrees))
         push = app.state.view_colors
         array = app.view.mesh.GetPointData().GetArray(push["name"])
         assert push["hash"] == hash_data_array(array), (degrees, push["hash"])
@@ -60,14 +48,14 @@ def test_the_colour_push_carries_the_hash_trame_vtk_gives_the_array(app):
 def test_a_camera_event_that_moved_nothing_synchronises_nothing(app, monkeypatch):
     syncs = []
     monkeypatch.setattr(app.html_view, "update", lambda *a, **k: syncs.append(app.scene.camera))
-    turned = _turned(app.scene, 25)
+    turned = browser_camera(app.scene, 25)
     app.on_camera(turned)
     assert len(syncs) == 1, syncs  # the drag's end: arrows and markers
     app.on_camera(turned)  # a click: the same camera again
     app.on_camera_move(turned)
     assert len(syncs) == 1, f"a camera already shown was synchronised again: {syncs}"
     # a drag: its frames re-shade, its end (the same camera as the last frame) synchronises once
-    later = _turned(app.scene, 10)
+    later = browser_camera(app.scene, 10)
     app.on_camera_move(later)
     assert len(syncs) == 1, syncs
     app.on_camera(later)
@@ -87,7 +75,7 @@ def test_a_turn_plans_its_scene_once(app, monkeypatch):
 
     monkeypatch.setattr(planner, "plan", counting)
     monkeypatch.setattr(lesson_app, "plan", counting)
-    turned = _turned(app.scene, 30)
+    turned = browser_camera(app.scene, 30)
     app.on_camera(turned)
     # the view's shading and the planner verdict share one plan (the readout plans its per-light parts)
     times = sum(scene is app.scene for scene in planned)
@@ -107,15 +95,15 @@ def _apply(base: bytes, push: dict) -> bytes:
 def test_a_turn_sends_only_the_rows_that_changed_once_the_browser_shows_the_last_push(app):
     from phonglab.app import client
 
-    app.on_camera_move(_turned(app.scene, 10))
+    app.on_camera_move(browser_camera(app.scene, 10))
     first = app.state.view_colors
     assert "data" in first, "the first push must be whole: the browser has no pushed colours yet"
     # the browser has not said what it shows: the next push is whole too
-    app.on_camera_move(_turned(app.scene, 5))
+    app.on_camera_move(browser_camera(app.scene, 5))
     assert "data" in app.state.view_colors, sorted(app.state.view_colors)
     shown = app.state.view_colors
     app.state[client.SHOWN_KEY] = shown["hash"]  # what phonglab.js sets once it applied that push
-    app.on_camera_move(_turned(app.scene, 4))
+    app.on_camera_move(browser_camera(app.scene, 4))
     change = app.state.view_colors
     colours = app.view.colour_array().values
     assert "data" not in change and change["base"] == shown["hash"], sorted(change)
@@ -125,7 +113,7 @@ def test_a_turn_sends_only_the_rows_that_changed_once_the_browser_shows_the_last
     assert change["hash"] != shown["hash"]
     # a browser that could not apply it says so (None): the next push is whole again
     app.state[client.SHOWN_KEY] = None
-    app.on_camera_move(_turned(app.scene, 3))
+    app.on_camera_move(browser_camera(app.scene, 3))
     assert "data" in app.state.view_colors
 
 
