@@ -27,11 +27,13 @@ probe = [0.3, 0.4, 0.866]
     "# Sphere\n",
 )
 
+
 @pytest.fixture
 def app(tmp_path):
     application = open_app(tmp_path, "04-sphere.md", SPHERE, "test-eye")
     yield application
     application.close()
+
 
 def test_scene_camera_takes_the_browsers_camera_and_keeps_infinite_viewer():
     scene = red_sphere(12).replace("camera.infinite_viewer", True)
@@ -39,6 +41,7 @@ def test_scene_camera_takes_the_browsers_camera_and_keeps_infinite_viewer():
     assert turned.camera.eye == pytest.approx(browser_camera(scene, 30)["position"]), turned.camera
     assert turned.camera.infinite_viewer is True
     assert eye.scene_camera(scene, browser_camera(scene, 0)) is scene
+
 
 @pytest.mark.parametrize("camera, error", [
     ([1, 2, 3], ValueError),
@@ -51,6 +54,7 @@ def test_scene_camera_takes_the_browsers_camera_and_keeps_infinite_viewer():
 def test_a_bad_browser_camera_is_refused(camera, error):
     with pytest.raises(error):
         eye.scene_camera(red_sphere(12), camera)
+
 
 def test_latest_drops_stale_cameras_and_keeps_final():
     seen = []
@@ -67,6 +71,7 @@ def test_latest_drops_stale_cameras_and_keeps_final():
     asyncio.run(drag())
     assert seen == [(6, True)], seen
     assert (latest.offered, latest.applied) == (7, 1)
+
 
 def test_turning_the_view_reshades_for_the_new_eye(app):
     before = app.scene
@@ -98,6 +103,7 @@ def test_turning_the_view_reshades_for_the_new_eye(app):
     assert vtk_camera.GetPosition() == pytest.approx(camera["position"])
     assert vtk_camera.GetViewAngle() == pytest.approx(camera["viewAngle"])
 
+
 def test_moving_the_eye_slider_moves_the_camera_and_a_new_lesson_restores_it(app):
     app.on_camera(browser_camera(app.scene, 25))
     app._on_control("camera__azimuth", -10.0)
@@ -106,6 +112,7 @@ def test_moving_the_eye_slider_moves_the_camera_and_a_new_lesson_restores_it(app
     assert app.view.renderer.GetActiveCamera().GetPosition() == pytest.approx(expected, abs=1e-6)
     app.reset_lesson()
     assert app.scene.camera == app.entry.scene.camera
+
 
 def test_the_page_gets_every_arrows_tip_for_its_letters_and_they_follow_the_eye(app):
     def tips():
