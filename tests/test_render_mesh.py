@@ -141,3 +141,21 @@ def test_triangles_index_the_points():
     mesh = build_mesh(Geometry("cube", 4))
     tri = triangles(mesh)
     assert tri.shape == (mesh.n_cells, 3) and tri.max() < mesh.n_points
+
+
+def test_the_cell_locator_is_built_once_per_mesh_and_again_when_its_points_move():
+    # a turn of the view casts a ray to every arrow tip: the 100k-vertex sphere's locator must not be rebuilt each time
+    import numpy as np
+    import pyvista as pv
+
+    from phonglab.render import mesh as meshes
+
+    sphere = pv.Sphere(theta_resolution=24, phi_resolution=16).triangulate()
+    first = meshes._locator(sphere)
+    sphere.point_data["colors"] = np.zeros((sphere.n_points, 3), dtype=np.uint8)  # new colours keep it
+    assert meshes._locator(sphere) is first
+    hit = meshes.ray_hit(sphere, (0, 0, 5), (0, 0, 0))[0]
+    sphere.points = sphere.points * 2.0  # moved points: a new locator, and the hit moves with them
+    assert meshes._locator(sphere) is not first
+    moved = meshes.ray_hit(sphere, (0, 0, 5), (0, 0, 0))[0]
+    assert np.allclose(moved, 2 * hit), (hit, moved)

@@ -15,6 +15,8 @@ import functools
 import os
 import warnings
 
+import weakref
+
 import numpy as np
 import pyvista as pv
 import vtk
@@ -252,10 +254,27 @@ def face_centroids_normals(mesh: pv.PolyData) -> tuple[np.ndarray, np.ndarray]:
     return centroids.astype(np.float32), face.astype(np.float32)
 
 
+#: id(mesh) -> (a weak reference to it, the MTimes of its points and triangles, their cell locator);
+#: an entry goes when its mesh does (PolyData is not hashable, so not a WeakKeyDictionary)
+_LOCATORS: dict[int, tuple] = {}
+
+
 def _locator(mesh: pv.PolyData) -> vtk.vtkStaticCellLocator:
+    """The mesh's cell locator, built once and rebuilt only when its points or triangles change.
+
+    New colours (point data) keep it: a turn of the view casts rays on the same mesh every time.
+    """
+    stamp = (mesh.GetPoints().GetMTime(), mesh.GetPolys().GetMTime())
+    cached = _LOCATORS.get(id(mesh))
+    if cached is not None and cached[0]() is mesh and cached[1] == stamp:
+        return cached[2]
     locator = vtk.vtkStaticCellLocator()
     locator.SetDataSet(mesh)
     locator.BuildLocator()
+    key = id(mesh)
+    if cached is None or cached[0]() is not mesh:
+        weakref.finalize(mesh, _LOCATORS.pop, key, None)
+    _LOCATORS[key] = (weakref.ref(mesh), stamp, locator)
     return locator
 
 
