@@ -447,3 +447,24 @@ def test_letters_of_arrows_the_mesh_hides_are_reported_hidden():
     finally:
         view.close()
     assert hidden == shown, f"probe at {probe}, camera at (0, 0, -5): hidden {sorted(hidden)} of {sorted(shown)}"
+
+
+def test_hidden_letters_are_kept_until_the_camera_or_the_arrows_move(monkeypatch):
+    # a slider that changes only colours refreshes the panels: it must not cast the letters' rays again
+    from phonglab.render import picking
+
+    casts = []
+    real = picking.ray_hit
+    monkeypatch.setattr(picking, "ray_hit", lambda *a: casts.append(a) or real(*a))
+    view = SceneView(red_sphere(), size=SIZE)
+    try:
+        first = view.hidden_letters()
+        rays = len(casts)
+        view.update(red_sphere(**{"material.shininess": 7.0}))
+        again = view.hidden_letters()
+        assert rays > 0 and len(casts) == rays and again == first, (rays, len(casts), first, again)
+        view.set_camera(eye=(0.0, 0.0, -5.0), focal_point=(0.0, 0.0, 0.0))
+        behind = view.hidden_letters()
+        assert len(casts) == 2 * rays and behind and behind != first, (rays, len(casts), first, behind)
+    finally:
+        view.close()

@@ -317,8 +317,15 @@ def ray_hit(mesh: pv.PolyData, origin, target) -> tuple[np.ndarray, np.ndarray] 
     return _blend_normal(mesh, int(cell_id), np.asarray(x))
 
 
+def _triangle(mesh: pv.PolyData, cell_id: int) -> np.ndarray:
+    """The point ids of one triangle, asked of VTK (not by exporting every face, ~4 ms on 200k triangles)."""
+    ids = vtk.vtkIdList()
+    mesh.GetCellPoints(int(cell_id), ids)
+    return np.array([ids.GetId(i) for i in range(ids.GetNumberOfIds())], dtype=np.int64)
+
+
 def _blend_normal(mesh, cell_id: int, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    ids = triangles(mesh)[cell_id]
+    ids = _triangle(mesh, cell_id)
     a, b, c = np.asarray(mesh.points, dtype=np.float64)[ids]
     # barycentric weights of x in triangle abc
     v0, v1, v2 = b - a, c - a, x - a

@@ -660,15 +660,26 @@ class SceneView:
         return [(letter, base, tuple(float(c) for c in self._arrows.tip(letter))) for letter in self._arrows.shown()]
 
     def hidden_letters(self) -> set[str]:
-        """The letters whose arrow tip the mesh hides from the window's camera (say, a probe turned to the far side)."""
+        """The letters whose arrow tip the mesh hides from the window's camera (say, a probe turned to the far side).
+
+        One ray per letter; the answer is kept until the camera, the arrows or the mesh's points move
+        (a slider that changes only colours asks again and pays nothing).
+        """
         origin = np.asarray(self.renderer.GetActiveCamera().GetPosition(), dtype=float)
+        tips = {letter: self._arrows.tip(letter) for letter in self._arrows.shown()}
+        mesh = self.mesh
+        key = (id(mesh), mesh.GetPoints().GetMTime(), mesh.GetPolys().GetMTime(), tuple(origin),
+               tuple((letter, tuple(tip)) for letter, tip in tips.items()))
+        cached = getattr(self, "_hidden", None)
+        if cached is not None and cached[0] == key:
+            return set(cached[1])
         hidden = set()
-        for letter in self._arrows.shown():
-            tip = self._arrows.tip(letter)
+        for letter, tip in tips.items():
             hit = picking.ray_hit(self.mesh, origin, tip)
             reach = float(np.linalg.norm(tip - origin))
             if hit is not None and np.linalg.norm(hit[0] - origin) < reach * (1 - 1e-4):
                 hidden.add(letter)
+        self._hidden = (key, frozenset(hidden))
         return hidden
 
     def legend(self) -> list[tuple[str, str, str]]:
