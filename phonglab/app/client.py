@@ -40,13 +40,17 @@ class ColorPush(AbstractElement):
     ----------
     push : tuple
         The state binding, e.g. ``("view_colors", None)``.
+    expect : tuple
+        A binding, true when the server answers a turn of the view with
+        colours (not while it sends a picture instead): only then may the
+        browser hold a turned frame for them (see ``www/phonglab.js``).
     """
 
     def __init__(self, **kwargs):
         super().__init__("phonglab-colors", **kwargs)
         if self.server:
             self.server.enable_module(MODULE)
-        self._attr_names += ["push"]
+        self._attr_names += ["push", "expect"]
 
 
 def dataset_id(mapper) -> str:

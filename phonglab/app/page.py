@@ -249,7 +249,7 @@ class _Page:
                     Animation=(self.handlers.camera_move or self.handlers.camera,
                                "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.view:
-                    ColorPush(push=("view_colors",))
+                    ColorPush(push=("view_colors",), expect=("!pixel_mode",))
                     ArrowLetters(tips=("arrow_tips", []))  # in every mode, over the pixel image too
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):

@@ -1,24 +1,30 @@
 """``phonglab bench ui``: slider key press to changed pixels, in a real browser.
 
-The benchmark starts a server on a free 127.0.0.1 port, opens its page in
-headless Chromium (Playwright) and presses a slider's arrow key 30 times,
-letting the view settle between presses. For every press it measures, inside
-the page, the time from the key event to the first animation frame whose
-pixels differ: a ``requestAnimationFrame`` loop reads the view's WebGL canvas
-with ``gl.readPixels`` and hashes it (the page's WebGL contexts are created
-with ``preserveDrawingBuffer`` so the pixels can be read at any time). The
-server writes its own time per update to a file (:mod:`phonglab.app.timing`).
-
-It does this for two apps on the same 100k-vertex sphere, in the same run:
+The benchmark starts two servers on free 127.0.0.1 ports and opens their
+pages in one headless Chromium (Playwright):
 
 * the minimal trame app of :mod:`phonglab.bench.ui_baseline` (plain NumPy,
-  ``VtkLocalView.update()``), and
+  ``VtkLocalView.update()``) on a sphere of about 100k vertices, and
 * phonglab's own app (``phonglab serve`` on a one-lesson folder whose sphere
   has at least 100 000 vertices), moving its shininess slider.
 
-It prints the median and 95th percentile of both, phonglab's median as a
-ratio to the baseline's (target ≤ 1.0) and phonglab's server time per update
-(target ≤ 30 ms), each with PASS or MISS.
+Then it takes, in turn and from a settled view each time, one key press of
+the baseline's slider, one of phonglab's, and one drag of phonglab's view
+(:mod:`phonglab.bench.ui_turn`), in an order that rotates each round, until
+each has its count. Interleaved so, the three see the same load on the
+machine, and a change of load during the run moves them together instead of
+skewing their ratio. Only the page being measured hashes its pixels.
+
+For a key press it measures, inside the page, the time from the key event
+to the first animation frame whose pixels differ: a ``requestAnimationFrame``
+loop reads the view's WebGL canvas with ``gl.readPixels`` and hashes it (the
+page's WebGL contexts are created with ``preserveDrawingBuffer`` so the
+pixels can be read at any time). The servers write their own time per
+update to a file (:mod:`phonglab.app.timing`).
+
+It prints the median and 95th percentile of both apps, phonglab's median as
+a ratio to the baseline's (target ≤ 1.0) and phonglab's server time per
+update (target ≤ 30 ms), each with PASS or MISS; then the same for the turn.
 
 The helpers that start and stop servers and Chromium are shared with the
 browser tests.
@@ -83,7 +89,7 @@ MEASURE_JS = r"""
   };
   const bench = (window.__phonglabBench = {
     armed: false, t0: null, latency: null, base: 0, last: 0, stable: 0, frames: 0,
-    selector: "canvas",
+    selector: "canvas", paused: false,
   });
   let pixels = null;
   function canvas() {
@@ -114,6 +120,11 @@ MEASURE_JS = r"""
     if (bench.armed && bench.t0 === null) bench.t0 = event.timeStamp;
   }, true);
   function frame() {
+    if (bench.paused) {  // another page is being measured: no reading back here
+      bench.stable = 0;
+      requestAnimationFrame(frame);
+      return;
+    }
     const h = hash();
     bench.frames += 1;
     if (bench.armed && bench.t0 !== null && h !== bench.base) {
@@ -277,72 +288,87 @@ def write_bench_lesson(folder, resolution: int) -> Path:
 # measuring one app
 
 
-def measure_app(browser, url, *, slider, canvas, presses, warmup, timing_path, label, settle_frames=8):
-    """Press a slider's right arrow ``warmup + presses`` times; time key to pixels.
+def open_page(browser, url, canvas: str, *scripts: str):
+    """A new page at ``url`` with :data:`MEASURE_JS` (and ``scripts``), once its view's first picture has settled."""
+    page = browser.new_page(viewport=VIEWPORT)
+    try:
+        page.add_init_script(MEASURE_JS)
+        for script in scripts:
+            page.add_init_script(script)
+        page.goto(url)
+        page.wait_for_selector(canvas, timeout=90_000)
+        page.evaluate("(selector) => { window.__phonglabBench.selector = selector; }", canvas)
+        page.wait_for_function(
+            "() => { const b = window.__phonglabBench; return b.last !== 0 && b.stable > 20; }", timeout=120_000
+        )
+    except Exception:
+        page.close()
+        raise
+    return page
+
+
+def settle(page, frames: int = 8) -> None:
+    """Let ``page`` hash its pixels again and wait until ``frames`` animation frames show no change."""
+    page.evaluate("() => { window.__phonglabBench.paused = false; }")
+    page.wait_for_function(f"() => window.__phonglabBench.stable >= {frames}", timeout=30_000)
+
+
+def pause(page) -> None:
+    """Stop ``page`` reading its pixels back while another page is measured."""
+    page.evaluate("() => { window.__phonglabBench.paused = true; }")
+
+
+class KeyPress:
+    """Key presses on one page's slider, each timed from the key event to changed pixels.
 
     Parameters
     ----------
-    browser : playwright Browser
-    url : str
+    page : playwright Page
+        Opened with :func:`open_page`.
     slider : str
         CSS selector of the slider's thumb (``[role=slider]``).
-    canvas : str
-        CSS selector of the view's canvas.
-    presses, warmup : int
-        Measured and unmeasured presses.
     timing_path : path
         The server's timing file (:mod:`phonglab.app.timing`).
     label : str
         Timing-file label of the server's updates.
-    settle_frames : int
-        Animation frames with unchanged pixels that count as "settled".
-
-    Returns
-    -------
-    dict
-        ``latency_ms`` (list), ``server_ms`` (list), ``canvas`` ("WxH" device pixels).
     """
-    from phonglab.app import timing
 
-    page = browser.new_page(viewport=VIEWPORT)
-    try:
-        page.add_init_script(MEASURE_JS)
-        page.goto(url)
-        page.wait_for_selector(canvas, timeout=90_000)
-        page.evaluate("(selector) => { window.__phonglabBench.selector = selector; }", canvas)
-        # the first picture: wait for a non-blank, settled canvas
-        page.wait_for_function(
-            "() => { const b = window.__phonglabBench; return b.last !== 0 && b.stable > 20; }", timeout=90_000
-        )
-        size = page.evaluate(
-            "(s) => { const c = document.querySelector(s); return [c.width, c.height]; }", canvas
-        )
-        thumb = page.locator(slider).first
-        thumb.focus()
-        latencies, updates_before = [], None
-        for i in range(warmup + presses):
-            updates = len([r for r in timing.read(timing_path) if r[0] == label])
-            if i == warmup:
-                updates_before = updates
-            page.wait_for_function(
-                f"() => window.__phonglabBench.stable >= {settle_frames}", timeout=30_000
-            )
-            page.evaluate("() => window.__phonglabBench.arm()")
-            page.keyboard.press("ArrowRight")
-            page.wait_for_function("() => window.__phonglabBench.latency !== null", timeout=30_000)
-            latency = page.evaluate("() => window.__phonglabBench.latency")
-            # let the server's update land in its timing file before the next press
-            deadline = time.monotonic() + 10
-            while time.monotonic() < deadline:
-                if len([r for r in timing.read(timing_path) if r[0] == label]) > updates:
-                    break
-                time.sleep(0.01)
-            if i >= warmup:
-                latencies.append(latency)
-        server = [ms for lab, ms in timing.read(timing_path) if lab == label][updates_before:]
-        return {"latency_ms": latencies, "server_ms": server, "canvas": f"{size[0]}x{size[1]}"}
-    finally:
-        page.close()
+    def __init__(self, page, *, slider, timing_path, label):
+        self.page, self.slider, self.timing_path, self.label = page, slider, timing_path, label
+        self.latency_ms: list[float] = []
+        self._records_before = None
+
+    def records(self) -> int:
+        from phonglab.app import timing
+
+        return len([r for r in timing.read(self.timing_path) if r[0] == self.label])
+
+    def start_measuring(self) -> None:
+        """The presses so far were warm-up: keep the later ones (and the server's times from here)."""
+        self.latency_ms.clear()
+        self._records_before = self.records()
+
+    def server_ms(self) -> list[float]:
+        from phonglab.app import timing
+
+        return [ms for lab, ms in timing.read(self.timing_path) if lab == self.label][self._records_before or 0:]
+
+    def step(self) -> float:
+        """One press of the right arrow from a settled view; its latency in ms."""
+        page = self.page
+        settle(page)
+        page.locator(self.slider).first.focus()
+        records = self.records()
+        page.evaluate("() => window.__phonglabBench.arm()")
+        page.keyboard.press("ArrowRight")
+        page.wait_for_function("() => window.__phonglabBench.latency !== null", timeout=30_000)
+        latency = page.evaluate("() => window.__phonglabBench.latency")
+        # let the server's update land in its timing file before the next step
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and self.records() <= records:
+            time.sleep(0.01)
+        self.latency_ms.append(latency)
+        return latency
 
 
 def percentile(values, q: float) -> float:
@@ -361,8 +387,8 @@ def percentile(values, q: float) -> float:
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("--presses", type=_positive, default=30, help="measured key presses per app (default 30)")
-    parser.add_argument("--warmup", type=_non_negative, default=3, help="unmeasured presses first (default 3)")
+    parser.add_argument("--presses", type=_positive, default=30, help="measured rounds: a key press in each app and a drag of the view (default 30)")
+    parser.add_argument("--warmup", type=_non_negative, default=3, help="unmeasured rounds first (default 3)")
     parser.add_argument(
         "--vertices", type=_positive, default=VERTICES, help=f"sphere vertices, at least (default {VERTICES})"
     )
@@ -396,88 +422,97 @@ def _verdict(value: float, target: float) -> str:
     return "PASS" if value <= target else "MISS"
 
 
+#: what the benchmark presses and drags in each app
+PHONGLAB_SLIDER = ".phonglab-control-material__shininess__log [role=slider]"
+PHONGLAB_CANVAS = ".phonglab-view canvas"
+BASELINE_SLIDER = ".bench-slider [role=slider]"
+BASELINE_CANVAS = ".bench-view canvas"
+
+
 def run(args) -> int:
     from playwright.sync_api import sync_playwright
 
+    from phonglab.bench.ui_turn import TURN_JS, Turn
     from phonglab.bench.usage import UsageError
 
     if not os.path.exists(CHROMIUM):
         raise UsageError(CHROMIUM_MISSING)
     presses, warmup = args.presses, args.warmup
     resolution, points = sphere_resolution(args.vertices)
-    results = {}
-    with tempfile.TemporaryDirectory(prefix="phonglab-bench-ui-") as tmp, sync_playwright() as playwright:
+    servers = []
+    with tempfile.TemporaryDirectory(prefix="phonglab-bench-ui-") as tmp, sync_playwright() as playwright, \
+            contextlib.ExitStack() as stack:
         browser = launch_chromium(playwright)
+        stack.callback(browser.close)
         try:
             # phonglab's app first: its view size is then given to the baseline
             lessons = Path(tmp) / "lessons"
             lessons.mkdir()
             write_bench_lesson(lessons, resolution)
-            _progress(f"phonglab: sphere resolution {resolution} ({points} vertices), {presses} presses")
-            results["phonglab"] = _run_app(
-                browser,
-                lambda port: serve_command(lessons, port),
-                tmp,
-                "phonglab",
-                slider=".phonglab-control-material__shininess__log [role=slider]",
-                canvas=".phonglab-view canvas",
-                presses=presses,
-                warmup=warmup,
-                label="view",
-                turns=presses,
-            )
-            css = results["phonglab"]["css"]
-            _progress(f"baseline: {BASELINE_POINTS} vertices, view {css[0]}x{css[1]} CSS px, {presses} presses")
-            results["baseline"] = _run_app(
-                browser,
-                lambda port: [sys.executable, "-m", "phonglab.bench.ui_baseline", "--host", "127.0.0.1",
-                              "--port", str(port), "--view-size", f"{css[0]}x{css[1]}"],
-                tmp,
-                "baseline",
-                slider=".bench-slider [role=slider]",
-                canvas=".bench-view canvas",
-                presses=presses,
-                warmup=warmup,
-                label="baseline",
-            )
-        finally:
-            browser.close()
+            _progress(f"phonglab: sphere resolution {resolution} ({points} vertices)")
+            ours = _serve(stack, servers, lambda port: serve_command(lessons, port), tmp, "phonglab")
+            our_page = open_page(browser, ours["url"], PHONGLAB_CANVAS, TURN_JS)
+            stack.callback(our_page.close)
+            css = our_page.evaluate("(s) => { const c = document.querySelector(s); return [c.width, c.height]; }",
+                                    PHONGLAB_CANVAS)  # device pixel ratio 1 in headless Chromium
+            _progress(f"baseline: {BASELINE_POINTS} vertices, view {css[0]}x{css[1]} CSS px")
+            base = _serve(stack, servers, lambda port: [
+                sys.executable, "-m", "phonglab.bench.ui_baseline", "--host", "127.0.0.1", "--port", str(port),
+                "--view-size", f"{css[0]}x{css[1]}"], tmp, "baseline")
+            base_page = open_page(browser, base["url"], BASELINE_CANVAS)
+            stack.callback(base_page.close)
+            probes = {
+                "baseline": KeyPress(base_page, slider=BASELINE_SLIDER, timing_path=base["timing"], label="baseline"),
+                "phonglab": KeyPress(our_page, slider=PHONGLAB_SLIDER, timing_path=ours["timing"], label="view"),
+                "turn": Turn(our_page, canvas=PHONGLAB_CANVAS, timing_path=ours["timing"]),
+            }
+            _progress(f"{warmup} warm-up and {presses} measured rounds, each: a baseline key press, a phonglab "
+                      "key press and a drag of phonglab's view, in rotating order")
+            _interleave(probes, [base_page, our_page], presses=presses, warmup=warmup)
+        except Exception as exc:
+            logs = "\n".join(f"--- {s['name']} server log ---\n{log_tail(s['log'])}" for s in servers)
+            raise RuntimeError(f"{exc}\n{logs}") from exc
+        # the servers' own times, read before their folder goes
+        size = f"{css[0]}x{css[1]}"
+        results = {name: {"latency_ms": probes[name].latency_ms, "server_ms": probes[name].server_ms(),
+                          "canvas": size} for name in ("baseline", "phonglab")}
+        turn = probes["turn"]
+        results["phonglab"]["turn"] = {"latency_ms": turn.latency_ms, "server_ms": turn.server_ms(),
+                                       "step_px": turn.step_px, "missed": turn.missed}
     _report(results, points)
     return 0
 
 
-def _run_app(browser, command, tmp, name, *, slider, canvas, presses, warmup, label, turns=0) -> dict:
+def _serve(stack, servers: list, command, tmp, name: str) -> dict:
+    """Start a server (stopped by ``stack``) that records its times; wait until it answers."""
     port = free_port()
-    command = command(port)
-    timing_path = Path(tmp) / f"{name}-timing.txt"
-    log_path = Path(tmp) / f"{name}-server.log"
-    process = start_server(command, log_path=log_path, env={"PHONGLAB_UI_TIMING": str(timing_path)})
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-        result = measure_app(
-            browser,
-            f"http://127.0.0.1:{port}/",
-            slider=slider,
-            canvas=canvas,
-            presses=presses,
-            warmup=warmup,
-            timing_path=timing_path,
-            label=label,
-        )
-        if turns:
-            from phonglab.bench.ui_turn import measure_turn
+    server = {"name": name, "url": f"http://127.0.0.1:{port}/", "timing": Path(tmp) / f"{name}-timing.txt",
+              "log": Path(tmp) / f"{name}-server.log"}
+    process = start_server(command(port), log_path=server["log"], env={"PHONGLAB_UI_TIMING": str(server["timing"])})
+    servers.append(server)
+    stack.callback(stop_server, process)
+    wait_until_serving(process, port, log_path=server["log"])
+    return server
 
-            _progress(f"{name}: {turns} turns of the view")
-            result["turn"] = measure_turn(browser, f"http://127.0.0.1:{port}/", canvas=canvas, steps=turns,
-                                          warmup=warmup, timing_path=timing_path, viewport=VIEWPORT,
-                                          init_script=MEASURE_JS)
-    except Exception as exc:
-        raise RuntimeError(f"{name}: {exc}\n--- server log ---\n{log_tail(log_path)}") from exc
-    finally:
-        stop_server(process)
-    width, height = (int(x) for x in result["canvas"].split("x"))
-    result["css"] = (width, height)  # device pixel ratio 1 in headless Chromium
-    return result
+
+def _interleave(probes: dict, pages: list, *, presses: int, warmup: int) -> None:
+    """``warmup + presses`` rounds of one step of every probe, the order rotating by one each round.
+
+    Before each step every other page stops reading back its pixels.
+    """
+    order = list(probes)
+    for round_ in range(warmup + presses):
+        if round_ == warmup:
+            for probe in probes.values():
+                probe.start_measuring()
+        for name in order[round_ % len(order):] + order[:round_ % len(order)]:
+            probe = probes[name]
+            for page in pages:
+                if page is not probe.page:
+                    pause(page)
+            probe.step()
+        if (round_ + 1) % 5 == 0 or round_ + 1 == warmup + presses:
+            _progress(f"  round {round_ + 1} of {warmup + presses}")
 
 
 def _report(results: dict, points: int) -> None:
@@ -497,7 +532,8 @@ def _report(results: dict, points: int) -> None:
         )
     headers = ("app", "median ms", "p95 ms", "server median ms", "server p95 ms", "canvas px", "presses")
     widths = [max(len(h), *(len(row[i]) for row in rows)) for i, h in enumerate(headers)]
-    print(f"phonglab bench ui: key press to changed pixels, headless Chromium, sphere of {points} vertices")
+    print(f"phonglab bench ui: key press to changed pixels, headless Chromium, sphere of {points} vertices "
+          "(the apps measured in turn, interleaved)")
     print("  ".join(h.ljust(w) for h, w in zip(headers, widths)))
     print("  ".join("-" * w for w in widths))
     for row in rows:

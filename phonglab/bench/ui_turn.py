@@ -5,11 +5,15 @@ browser turns its copy of the mesh at once, with the old colours, and the
 server re-shades the mesh for the new eye and pushes the colours back. This
 part times that round trip in the page. Each step is one drag of
 :data:`STEP_PX` pixels across the view (a few degrees), alternately left and
-right so the highlight stays in view. The clock starts at the drag's mouse
-move (the event's timestamp) and stops when the re-shaded colours are drawn
-(``phonglab-colors-applied``, dispatched by ``www/phonglab.js`` right after
-it renders them). The server records its time per re-shade under the label
-``turn`` (:mod:`phonglab.app.timing`).
+right so the highlight stays in view, and each starts from a settled view,
+as the key presses do. The clock starts at the drag's mouse move (the
+event's timestamp) and stops, as for a key press, at the first animation
+frame whose pixels hold the re-shaded colours: ``www/phonglab.js``
+dispatches ``phonglab-colors-applied`` when vtk.js has drawn a frame with
+new colours, and the next animation frame reads the canvas's pixels
+(``gl.readPixels`` waits until that frame is really drawn). The server
+records its time per re-shade under the label ``turn``
+(:mod:`phonglab.app.timing`).
 """
 
 from __future__ import annotations
@@ -30,87 +34,86 @@ TURN_JS = r"""
   }, true);
   window.addEventListener("phonglab-colors-applied", () => {
     turn.applied += 1;
-    if (turn.armed && turn.t0 !== null) {
-      turn.latency = performance.now() - turn.t0;
-      turn.armed = false;
-    }
+    if (!turn.armed || turn.t0 === null) return;
+    turn.armed = false;
+    const t0 = turn.t0;
+    requestAnimationFrame(() => {  // the pixels of the frame just drawn, read back: it is on screen
+      const c = document.querySelector((window.__phonglabBench || {}).selector || "canvas");
+      const gl = c && (c.getContext("webgl2") || c.getContext("webgl"));
+      if (gl) gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+      turn.latency = performance.now() - t0;
+    });
   });
   turn.arm = () => { turn.t0 = null; turn.latency = null; turn.armed = true; };
 })();
 """
 
 
-def measure_turn(browser, url, *, canvas, steps, warmup, timing_path, label="turn", viewport=None,
-                 init_script=""):
-    """Drag the view ``warmup + steps`` times; time each drag to its re-shaded pixels.
+class Turn:
+    """Drags of one page's view, each timed from the mouse move to the re-shaded pixels.
 
     Parameters
     ----------
-    browser : playwright Browser
-    url : str
+    page : playwright Page
+        Opened with :func:`phonglab.bench.ui.open_page` and :data:`TURN_JS`.
     canvas : str
         CSS selector of the view's canvas.
-    steps, warmup : int
-        Measured and unmeasured drags.
     timing_path : path
         The server's timing file.
     label : str
         Timing-file label of the server's re-shades.
-    viewport : dict, optional
-    init_script : str
-        More script to inject first (the pixel hash of :mod:`phonglab.bench.ui`).
-
-    Returns
-    -------
-    dict
-        ``latency_ms`` (list), ``server_ms`` (list), ``step_px``.
     """
-    from phonglab.app import timing
 
-    page = browser.new_page(viewport=viewport)
-    try:
-        if init_script:
-            page.add_init_script(init_script)
-        page.add_init_script(TURN_JS)
-        page.goto(url)
-        page.wait_for_selector(canvas, timeout=90_000)
-        if init_script:  # the pixel hash of phonglab.bench.ui: wait for the first settled picture
-            page.evaluate("(selector) => { window.__phonglabBench.selector = selector; }", canvas)
-            page.wait_for_function(
-                "() => { const b = window.__phonglabBench; return b.last !== 0 && b.stable > 20; }", timeout=120_000
-            )
-        page.wait_for_function("() => !!window.phonglabView", timeout=60_000)
-        box = page.locator(canvas).first.bounding_box()
+    step_px = STEP_PX
+
+    def __init__(self, page, *, canvas, timing_path, label="turn"):
+        self.page, self.canvas, self.timing_path, self.label = page, canvas, timing_path, label
+        self.latency_ms: list[float] = []
+        self.missed = 0
+        self._records_before = None
+        self._steps = 0
+
+    def records(self) -> int:
+        from phonglab.app import timing
+
+        return len([r for r in timing.read(self.timing_path) if r[0] == self.label])
+
+    def start_measuring(self) -> None:
+        """The drags so far were warm-up: keep the later ones (and the server's times from here)."""
+        self.latency_ms.clear()
+        self.missed = 0
+        self._records_before = self.records()
+
+    def server_ms(self) -> list[float]:
+        from phonglab.app import timing
+
+        return [ms for lab, ms in timing.read(self.timing_path) if lab == self.label][self._records_before or 0:]
+
+    def step(self) -> float | None:
+        """One drag from a settled view, alternately right and left; its latency in ms (None: no re-shade came)."""
+        from phonglab.bench.ui import settle
+
+        page = self.page
+        settle(page)
+        box = page.locator(self.canvas).first.bounding_box()
         x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-        latencies, before, missed = [], None, 0
-        for i in range(warmup + steps):
-            records = len([r for r in timing.read(timing_path) if r[0] == label])
-            if i == warmup:
-                before = records
-            direction = 1 if i % 2 == 0 else -1
-            page.evaluate("() => window.__phonglabTurn.arm()")
-            page.mouse.move(x, y)
-            page.mouse.down()
-            page.mouse.move(x + direction * STEP_PX, y, steps=1)
-            page.mouse.up()
-            try:
-                page.wait_for_function("() => window.__phonglabTurn.latency !== null", timeout=STEP_TIMEOUT_MS)
-            except Exception:  # a drag that brought no re-shade (the camera did not change): counted, not timed
-                missed += 1
-                continue
-            latency = page.evaluate("() => window.__phonglabTurn.latency")
-            # the drag's end is re-shaded too: let it land before the next step
-            deadline = time.monotonic() + 10
-            while time.monotonic() < deadline:
-                if len([r for r in timing.read(timing_path) if r[0] == label]) > records:
-                    break
-                time.sleep(0.01)
-            page.wait_for_timeout(150)
-            if i >= warmup:
-                latencies.append(latency)
-        server = [ms for lab, ms in timing.read(timing_path) if lab == label][before:]
-        if not latencies:
-            raise RuntimeError(f"no drag of the view brought re-shaded colours back ({missed} drags)")
-        return {"latency_ms": latencies, "server_ms": server, "step_px": STEP_PX, "missed": missed}
-    finally:
-        page.close()
+        direction = 1 if self._steps % 2 == 0 else -1
+        self._steps += 1
+        records = self.records()
+        page.evaluate("() => window.__phonglabTurn.arm()")
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x + direction * STEP_PX, y, steps=1)
+        page.mouse.up()
+        try:
+            page.wait_for_function("() => window.__phonglabTurn.latency !== null", timeout=STEP_TIMEOUT_MS)
+        except Exception:  # a drag that brought no re-shade (the camera did not change): counted, not timed
+            self.missed += 1
+            return None
+        latency = page.evaluate("() => window.__phonglabTurn.latency")
+        # the drag's end is re-shaded and synchronised too: let it land before the next step
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and self.records() <= records:
+            time.sleep(0.01)
+        self.latency_ms.append(latency)
+        return latency

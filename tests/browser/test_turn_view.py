@@ -317,3 +317,59 @@ def _check_letters(page, mode, shot, scene):
             tip = found["tips"][letter]
             assert np.hypot(left + x - tip[0], top + y - tip[1]) <= 2, \
                 f"{letter}: the image draws its tip at {(left + x, top + y)}, the letter follows {tip} ({shot})"
+
+
+# every frame vtk.js really draws from here on: the camera and the colours (how many pushes) it shows
+DRAWS_JS = r"""
+(slow) => {
+  const view = window.phonglabView, d = view.phonglabDraw, camera = view.renderer.getActiveCamera();
+  if (slow) { d.frameMs = 5000; d.roundTripMs = 1; }  // frames far slower than the colours' round trip
+  const draws = (window.__draws = []);
+  view.interactor.onRenderEvent(() => {
+    if (view.interactor.getEnableRender()) draws.push({ position: camera.getPosition(), colours: d.colours });
+  });
+  return { position: camera.getPosition(), colours: d.colours };
+}
+"""
+
+
+def _moved(a, b) -> bool:
+    return float(np.linalg.norm(np.subtract(a, b))) > 1e-6
+
+
+def test_where_frames_are_slow_a_turned_view_is_not_drawn_with_the_old_colours(browser, lesson4_server):
+    # Chromium without a GPU draws a frame of a large mesh in ~0.5 s, ten times the colours' round trip:
+    # the turned mesh is held until its re-shaded colours come, then drawn once with them
+    context, page = _lesson4_page(browser, lesson4_server, "gouraud")
+    try:
+        before = page.page.evaluate(DRAWS_JS, True)
+        _drag(page)
+        wait_for(lambda: any(_moved(d["position"], before["position"]) and d["colours"] > before["colours"]
+                             for d in page.page.evaluate("() => window.__draws")),
+                 "a frame of the turned view with re-shaded colours", timeout=30)
+        draws = page.page.evaluate("() => window.__draws")
+        stale = [d for d in draws if _moved(d["position"], before["position"]) and d["colours"] == before["colours"]]
+        assert not stale, f"turned frames drawn with the colours of the old eye: {stale} (before: {before}, all: {draws})"
+        assert not page.errors, page.errors
+    finally:
+        context.close()
+
+
+def test_holding_the_button_still_draws_no_frames(browser, lesson4_server):
+    # vtk.js animates while a button is down; a frame in which nothing changed is not drawn again
+    context, page = _lesson4_page(browser, lesson4_server, "gouraud")
+    try:
+        page.page.evaluate(DRAWS_JS, False)
+        box = page.page.locator(".phonglab-view canvas").bounding_box()
+        page.page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        page.page.mouse.down()
+        animating = page.page.evaluate("() => new Promise((done) => setTimeout(() => "
+                                       "done(window.phonglabView.interactor.isAnimating()), 1500))")
+        draws = page.page.evaluate("() => window.__draws.length")
+        page.page.mouse.up()
+        assert animating, "vtk.js did not animate while the button was down: the test shows nothing"
+        assert draws == 0, f"{draws} frames drawn in 1.5 s of a button held still"
+        page.wait_settled()
+        assert not page.errors, page.errors
+    finally:
+        context.close()

@@ -5,10 +5,22 @@
 // ({dataset, name, location, data}); this component writes them into the matching
 // array of the browser's copy of the scene and re-renders, instead of a full
 // scene synchronisation (a JSON delta plus a second round trip for the array).
+//
+// It also decides which frames of a drag are drawn. Each new camera goes to the server, which
+// re-shades for it and pushes the colours back (about 50 ms on one machine). With a GPU a frame
+// costs milliseconds and the browser draws every camera at once, with the old colours, until the
+// new ones come. Where WebGL is drawn in software a frame of a large mesh costs far more than that
+// round trip (0.4-0.65 s for 100k vertices on 2 cores): drawing the turned mesh with the old
+// colours would put the true frame a whole frame later. So when the frames measured here are
+// slower than the colours' round trip (and slower than SLOW_FRAME_MS), a new camera is held, not
+// drawn, until its colours arrive or a frame's time has passed; and an animation frame in which
+// nothing changed (the button held still) is not drawn at all. The letters wait with the mesh.
+const SLOW_FRAME_MS = 50;
+const HOLD_MIN_MS = 100, HOLD_MAX_MS = 1000;
 window.phonglab = {
   install(app) {
     app.component("phonglab-colors", {
-      props: { push: { type: Object, default: null } },
+      props: { push: { type: Object, default: null }, expect: { type: Boolean, default: true } },
       inject: { view: { default: null } },
       data() {
         return { pending: null, tries: 0 };
@@ -16,6 +28,21 @@ window.phonglab = {
       mounted() {
         // the local view this component sits in (tests and benchmarks read its camera and pixels)
         window.phonglabView = this.view;
+        // not reactive: the drawing policy's bookkeeping (see the top of this file)
+        this.draw = { shown: null, colours: 0, coloursShown: 0, holdSince: null, timer: null, changedAt: null,
+                      frameMs: 0, roundTripMs: null };
+        if (this.view) this.view.phonglabDraw = this.draw; // read by the browser tests
+        const interactor = this.view && this.view.interactor;
+        if (!interactor) return;
+        this.subscriptions = [
+          interactor.onAnimation(() => this.frame(false)),
+          interactor.onEndAnimation(() => this.frame(true)),
+          interactor.onRenderEvent(() => this.drawn()),
+        ];
+      },
+      beforeUnmount() {
+        (this.subscriptions || []).forEach((s) => s.unsubscribe());
+        if (this.draw) clearTimeout(this.draw.timer);
       },
       watch: {
         push(value) {
@@ -25,6 +52,78 @@ window.phonglab = {
         },
       },
       methods: {
+        // what a frame shows: the camera, the scene synchronised last, the canvas size
+        shownKey() {
+          const view = this.view;
+          const camera = view.renderer ? view.renderer.getActiveCamera() : null;
+          if (!camera) return null;
+          const size = view.openglRenderWindow ? view.openglRenderWindow.getSize() : [];
+          return [camera.getPosition(), camera.getFocalPoint(), camera.getViewUp(), camera.getViewAngle(),
+                  view.mtime, size].join(" ");
+        },
+        cameraOf(key) {
+          return key === null ? null : key.split(" ").slice(0, 4).join(" ");
+        },
+        // a drawn frame's cost: from the draw to the second animation frame after it (the first
+        // may come before the frame is on screen)
+        slow() {
+          const d = this.draw;
+          return d.frameMs > SLOW_FRAME_MS && (d.roundTripMs === null || d.frameMs > d.roundTripMs);
+        },
+        holdLimit() {
+          return Math.min(HOLD_MAX_MS, Math.max(HOLD_MIN_MS, this.draw.frameMs));
+        },
+        // called by vtk.js before it draws an animation frame (and before the frame after a drag's end)
+        frame(ending) {
+          const view = this.view, interactor = view.interactor, d = this.draw;
+          if (!view.renderer || (view.busy && view.busy.count > 0)) return; // trame is loading a scene: its switch
+          const key = this.shownKey();
+          const newCamera = this.cameraOf(key) !== this.cameraOf(d.shown);
+          const newColours = d.colours !== d.coloursShown;
+          const changed = key !== d.shown || newColours;
+          const now = performance.now();
+          if (newCamera && this.expect && d.changedAt === null) d.changedAt = now;
+          let draw = changed;
+          if (newCamera && !newColours && this.expect && this.slow()) {
+            if (d.holdSince === null) {
+              d.holdSince = now;
+              d.timer = setTimeout(() => this.release(), this.holdLimit());
+            }
+            draw = now - d.holdSince >= this.holdLimit();
+          }
+          view.phonglabHeld = !draw && newCamera;
+          interactor.setEnableRender(draw);
+          if (!draw && ending && !view.phonglabHeld) {
+            // nothing new at the drag's end: skip vtk.js's closing frame, then draw normally again
+            queueMicrotask(() => { if (!view.phonglabHeld) interactor.setEnableRender(true); });
+          }
+        },
+        // a held camera is drawn: its colours came, or waiting longer would cost more than a stale frame
+        release() {
+          const view = this.view, d = this.draw;
+          clearTimeout(d.timer);
+          d.timer = null;
+          d.holdSince = null;
+          view.phonglabHeld = false;
+          if (!(view.busy && view.busy.count > 0)) view.interactor.setEnableRender(true);
+          view.renderWindow.render(); // at once when still; else the next animation frame draws
+        },
+        // vtk.js finished a render call: if it drew, remember what is on screen and time the frame
+        drawn() {
+          const view = this.view, d = this.draw;
+          if (!view.interactor.getEnableRender()) return;
+          d.shown = this.shownKey();
+          const freshColours = d.colours !== d.coloursShown;
+          d.coloursShown = d.colours;
+          const start = performance.now();
+          requestAnimationFrame(() => requestAnimationFrame(() => {
+            const ms = performance.now() - start;
+            d.frameMs = d.frameMs ? 0.7 * d.frameMs + 0.3 * ms : ms;
+            // the re-shaded colours are on screen (phonglab bench ui times a turn to this moment)
+            if (freshColours) window.dispatchEvent(new CustomEvent("phonglab-colors-drawn"));
+          }));
+          if (freshColours) window.dispatchEvent(new CustomEvent("phonglab-colors-applied"));
+        },
         // the browser's copy of the dataset `dataset` and its array `name` at `location`
         findArray(dataset, name, location) {
           const view = this.view;
@@ -105,11 +204,20 @@ window.phonglab = {
           if (push.hash) this.remember(push.hash, values);
           this.shown(push.hash || null);
           this.pending = null;
-          // draw now rather than on the view's next debounced render
+          const d = this.draw;
+          if (d) {
+            d.colours += 1;
+            if (d.changedAt !== null) {  // the colours' round trip since the camera changed
+              const ms = performance.now() - d.changedAt;
+              // (a camera the server refused brings no colours: a later push's wait is not a round trip)
+              if (ms < 5000) d.roundTripMs = d.roundTripMs === null ? ms : 0.7 * d.roundTripMs + 0.3 * ms;
+              d.changedAt = null;
+            }
+          }
+          // draw now rather than on the view's next debounced render (a held camera with them)
           if (this.view.renderer) this.view.renderer.resetCameraClippingRange();
-          this.view.renderWindow.render();
-          // the re-shaded colours are on screen (phonglab bench ui times a turn to this moment)
-          window.dispatchEvent(new CustomEvent("phonglab-colors-applied"));
+          if (d) this.release();
+          else this.view.renderWindow.render();
         },
       },
       template: "<div style='display:none'></div>",
@@ -148,7 +256,7 @@ window.phonglab = {
           const view = this.view;
           const renderer = view && view.renderer;
           const canvas = this.host.querySelector("canvas");
-          if (!renderer || !canvas) return;
+          if (!renderer || !canvas || view.phonglabHeld) return; // a held camera: the letters wait with the mesh
           const camera = renderer.getActiveCamera();
           // the view angle spans the view's shorter side, as in the server's images (SceneView), so a
           // view taller than wide frames the scene as the per-pixel image does and the letters meet its arrows
