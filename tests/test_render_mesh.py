@@ -177,3 +177,26 @@ def test_a_hit_triangle_is_looked_up_alone_and_agrees_with_the_face_list(monkeyp
     monkeypatch.setattr(meshes, "triangles", lambda m: (_ for _ in ()).throw(AssertionError("all faces exported")))
     point, normal = meshes.ray_hit(mesh, (0, 0, 4), (0, 0, 0))
     assert point[2] > 0.99 and normal[2] > 0.99, (point, normal)
+
+
+def test_closed_outward_holds_for_solids_wound_outwards_only():
+    # culling the faces turned away is safe only for these: each edge run once each way, positive volume
+    import numpy as np
+    import pyvista as pv
+
+    from phonglab.render.mesh import closed_outward
+
+    sphere = build_mesh(Geometry("sphere", 24))
+    assert closed_outward(sphere) and closed_outward(build_mesh(Geometry("torus", 24)))
+    assert not closed_outward(build_mesh(Geometry("cube", 4)))  # faces with their own points: not closed
+    assert not closed_outward(build_mesh(Geometry("plane", 8)))
+    tri = triangles(sphere)
+    inwards = pv.PolyData(np.asarray(sphere.points), faces=np.column_stack([np.full(len(tri), 3), tri[:, ::-1]]))
+    assert not closed_outward(inwards), "a sphere wound inwards passed"
+    holed = pv.PolyData(np.asarray(sphere.points), faces=np.column_stack([np.full(len(tri) - 1, 3), tri[1:]]))
+    assert not closed_outward(holed), "a sphere with a triangle missing passed"
+    mixed = tri.copy()
+    mixed[5] = mixed[5, ::-1]
+    assert not closed_outward(pv.PolyData(np.asarray(sphere.points), faces=np.column_stack([np.full(len(tri), 3),
+                                                                                              mixed]))), \
+        "a sphere with one face wound the other way passed"

@@ -468,3 +468,28 @@ def test_hidden_letters_are_kept_until_the_camera_or_the_arrows_move(monkeypatch
         assert len(casts) == 2 * rays and behind and behind != first, (rays, len(casts), first, behind)
     finally:
         view.close()
+
+
+def test_faces_turned_away_are_left_out_only_where_no_pixel_changes():
+    # a browser drawing WebGL in software draws half the sphere's triangles; the picture must not change
+    view = SceneView(red_sphere(), size=SIZE, labels=False, vtk_text=False)
+    try:
+        prop = view.mesh_actor.GetProperty()
+        assert prop.GetBackfaceCulling(), "the opaque sphere seen from outside is drawn with its hidden faces"
+        culled = view.screenshot(annotate=False)
+        prop.SetBackfaceCulling(False)
+        whole = view.screenshot(annotate=False)
+        assert np.array_equal(culled, whole), f"{np.count_nonzero((culled != whole).any(axis=2))} pixels changed"
+        view.set_camera(eye=(0.2, 0.1, 0.3), focal_point=(0.0, 0.0, -1.0))  # inside the sphere
+        assert not prop.GetBackfaceCulling(), "culled with the eye inside the sphere"
+        view.reset_camera()
+        assert prop.GetBackfaceCulling()
+        view.update(red_sphere(**{"material.opacity": 0.5}))
+        assert not prop.GetBackfaceCulling(), "culled a translucent sphere (its far side shows)"
+    finally:
+        view.close()
+    plane = SceneView(red_sphere(geometry=Geometry("plane", 8)), size=SIZE)
+    try:
+        assert not plane.mesh_actor.GetProperty().GetBackfaceCulling(), "culled an open sheet"
+    finally:
+        plane.close()

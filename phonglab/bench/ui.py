@@ -464,7 +464,7 @@ def run(args) -> int:
             probes = {
                 "baseline": KeyPress(base_page, slider=BASELINE_SLIDER, timing_path=base["timing"], label="baseline"),
                 "phonglab": KeyPress(our_page, slider=PHONGLAB_SLIDER, timing_path=ours["timing"], label="view"),
-                "turn": Turn(our_page, canvas=PHONGLAB_CANVAS, timing_path=ours["timing"]),
+                "turn": Turn(our_page, canvas=PHONGLAB_CANVAS, timing_path=ours["timing"], settle=settle),
             }
             _progress(f"{warmup} warm-up and {presses} measured rounds, each: a baseline key press, a phonglab "
                       "key press and a drag of phonglab's view, in rotating order")

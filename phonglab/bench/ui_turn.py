@@ -60,14 +60,17 @@ class Turn:
         CSS selector of the view's canvas.
     timing_path : path
         The server's timing file.
+    settle : callable
+        ``settle(page)`` waits until the view shows no change (:func:`phonglab.bench.ui.settle`).
     label : str
         Timing-file label of the server's re-shades.
     """
 
     step_px = STEP_PX
 
-    def __init__(self, page, *, canvas, timing_path, label="turn"):
+    def __init__(self, page, *, canvas, timing_path, settle, label="turn"):
         self.page, self.canvas, self.timing_path, self.label = page, canvas, timing_path, label
+        self.settle = settle
         self.latency_ms: list[float] = []
         self.missed = 0
         self._records_before = None
@@ -91,10 +94,8 @@ class Turn:
 
     def step(self) -> float | None:
         """One drag from a settled view, alternately right and left; its latency in ms (None: no re-shade came)."""
-        from phonglab.bench.ui import settle
-
         page = self.page
-        settle(page)
+        self.settle(page)
         box = page.locator(self.canvas).first.bounding_box()
         x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
         direction = 1 if self._steps % 2 == 0 else -1

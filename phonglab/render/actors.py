@@ -15,6 +15,7 @@ import pyvista as pv
 import vtk
 
 from phonglab.render import framing, glyphs, shading
+from phonglab.render import mesh as meshes
 
 #: the VTK camera counts as "at the eye" within this distance; the eye marker is hidden then
 EYE_MARKER_MIN_DISTANCE = 0.5
@@ -44,6 +45,20 @@ def mesh_actor(renderer: vtk.vtkRenderer) -> tuple[vtk.vtkPolyDataMapper, vtk.vt
     actor.GetProperty().LightingOff()
     renderer.AddActor(actor)
     return mapper, actor
+
+
+def cull_hidden_faces(actor: vtk.vtkActor, mesh: pv.PolyData, eye) -> None:
+    """Leave out the faces turned away from ``eye`` where they cannot be seen, and only there.
+
+    That is an opaque mesh closed and wound outwards (:func:`~phonglab.render.mesh.closed_outward`)
+    with the eye outside its bounding box. The picture is the same; the
+    faces drawn are half as many, which a browser drawing WebGL in software
+    (no GPU) feels: a frame of the 100k-vertex sphere took about a third less.
+    """
+    lo, hi = np.reshape(mesh.bounds, (3, 2)).T
+    outside = bool(np.any((np.asarray(eye, dtype=float) < lo) | (np.asarray(eye, dtype=float) > hi)))
+    prop = actor.GetProperty()
+    prop.SetBackfaceCulling(outside and prop.GetOpacity() >= 1.0 and meshes.closed_outward(mesh))
 
 
 def show_mesh(mapper: vtk.vtkPolyDataMapper, mesh: pv.PolyData) -> None:

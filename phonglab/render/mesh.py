@@ -278,6 +278,41 @@ def _locator(mesh: pv.PolyData) -> vtk.vtkStaticCellLocator:
     return locator
 
 
+#: id(mesh) -> (a weak reference to it, the MTimes of its points and triangles, whether it is closed and wound outwards)
+_CLOSED: dict[int, tuple] = {}
+
+
+def closed_outward(mesh: pv.PolyData) -> bool:
+    """Whether the triangle mesh bounds a solid with every face wound outwards (counter-clockwise seen from outside).
+
+    Then a face turned away from an eye outside the solid is always behind
+    another face, and leaving it out changes no pixel. Exact and
+    conservative: every edge must be run once in each direction by two
+    triangles (closed, manifold, consistently wound), and the signed volume
+    must be positive. A mesh whose faces do not share their points (a cube
+    with sharp normals) does not qualify. Kept per mesh until its points or
+    triangles change.
+    """
+    stamp = (mesh.GetPoints().GetMTime(), mesh.GetPolys().GetMTime())
+    cached = _CLOSED.get(id(mesh))
+    if cached is not None and cached[0]() is mesh and cached[1] == stamp:
+        return cached[2]
+    tri = triangles(mesh).astype(np.int64)
+    closed = False
+    if len(tri) and mesh.n_cells == len(tri):
+        n = np.int64(mesh.n_points)
+        starts, ends = tri.ravel(), np.roll(tri, -1, axis=1).ravel()  # the edges a->b of every triangle
+        forward, backward = np.sort(starts * n + ends), np.sort(ends * n + starts)
+        if np.all(forward[1:] != forward[:-1]) and np.array_equal(forward, backward):
+            p = np.asarray(mesh.points, dtype=np.float64)[tri]
+            closed = float(np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum()) > 0.0
+    key = id(mesh)
+    if cached is None or cached[0]() is not mesh:
+        weakref.finalize(mesh, _CLOSED.pop, key, None)
+    _CLOSED[key] = (weakref.ref(mesh), stamp, closed)
+    return closed
+
+
 def surface_point(mesh: pv.PolyData, point) -> tuple[np.ndarray, np.ndarray]:
     """The mesh point closest to ``point`` and the smooth normal there.
 

@@ -49,6 +49,18 @@ def ray_hit(mesh: pv.PolyData, origin, target):
     return meshes.ray_hit(mesh, finite_vector("origin", origin), finite_vector("target", target))
 
 
+def hidden_tips(mesh: pv.PolyData, origin, tips: dict) -> set:
+    """The keys of ``tips`` (name -> point) that ``mesh`` hides from ``origin``: one ray to each."""
+    origin = np.asarray(origin, dtype=float)
+    hidden = set()
+    for name, tip in tips.items():
+        tip = np.asarray(tip, dtype=float)
+        hit = ray_hit(mesh, origin, tip)
+        if hit is not None and np.linalg.norm(hit[0] - origin) < float(np.linalg.norm(tip - origin)) * (1 - 1e-4):
+            hidden.add(name)
+    return hidden
+
+
 def to_image(renderer: vtk.vtkRenderer, world, height: int) -> tuple[float, float]:
     """Where a world point lands on an image ``height`` pixels tall of the renderer's window (row 0 at the top)."""
     renderer.SetWorldPoint(float(world[0]), float(world[1]), float(world[2]), 1.0)

@@ -185,6 +185,11 @@ class SceneView:
         self.mesh = mesh
         self._arrows.length = glyphs.arrow_length(mesh)
         self._gbuffers.clear()
+        self._cull()
+
+    def _cull(self) -> None:
+        """Hidden faces left out for the camera, where that changes no pixel (fewer for a browser to draw)."""
+        actors.cull_hidden_faces(self._mesh_actor, self.mesh, self.renderer.GetActiveCamera().GetPosition())
 
     # ------------------------------------------------------------------
     # state
@@ -255,6 +260,7 @@ class SceneView:
         if "camera" in changed:
             set_camera(self.renderer.GetActiveCamera(), scene.camera)
             self._gbuffers.clear()
+            self._cull()
         if changed & {"geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "area_light",
                       "display", "exposure"}:
             self._recolor()
@@ -397,6 +403,7 @@ class SceneView:
             angle outside (0, 180) degrees; the camera stays as it was.
         """
         set_camera(self.renderer.GetActiveCamera(), check_camera(eye, focal_point, up, view_angle))
+        self._cull()
         self._fit_view_angle()
         self._sync_eye_visibility()
 
@@ -404,6 +411,7 @@ class SceneView:
         """Look through the scene's camera again (after :meth:`set_camera`), the view angle refitted."""
         self._keep_view_angle = False
         set_camera(self.renderer.GetActiveCamera(), self.scene.camera)
+        self._cull()
         self._fit_view_angle()
         self._sync_eye_visibility()
 
@@ -447,6 +455,7 @@ class SceneView:
                            scene_plan=scene_plan if planned_for is self.scene else None)
         # the material's opacity on the actor too: a browser's copy (vtk.js) blends with it
         actors.set_opacity(self._mesh_actor, self.scene.material.opacity)
+        self._cull()
 
     def _update_vectors(self) -> None:
         """Recompute N, L, R, V, H at the probe and reshape the arrows in place."""
@@ -662,25 +671,14 @@ class SceneView:
     def hidden_letters(self) -> set[str]:
         """The letters whose arrow tip the mesh hides from the window's camera (say, a probe turned to the far side).
 
-        One ray per letter; the answer is kept until the camera, the arrows or the mesh's points move
-        (a slider that changes only colours asks again and pays nothing).
+        Kept until the camera, the arrows or the mesh's points move (a slider that changes only colours pays nothing).
         """
-        origin = np.asarray(self.renderer.GetActiveCamera().GetPosition(), dtype=float)
-        tips = {letter: self._arrows.tip(letter) for letter in self._arrows.shown()}
-        mesh = self.mesh
-        key = (id(mesh), mesh.GetPoints().GetMTime(), mesh.GetPolys().GetMTime(), tuple(origin),
-               tuple((letter, tuple(tip)) for letter, tip in tips.items()))
-        cached = getattr(self, "_hidden", None)
-        if cached is not None and cached[0] == key:
-            return set(cached[1])
-        hidden = set()
-        for letter, tip in tips.items():
-            hit = picking.ray_hit(self.mesh, origin, tip)
-            reach = float(np.linalg.norm(tip - origin))
-            if hit is not None and np.linalg.norm(hit[0] - origin) < reach * (1 - 1e-4):
-                hidden.add(letter)
-        self._hidden = (key, frozenset(hidden))
-        return hidden
+        origin = tuple(self.renderer.GetActiveCamera().GetPosition())
+        tips = tuple((letter, tuple(self._arrows.tip(letter))) for letter in self._arrows.shown())
+        key = (id(self.mesh), self.mesh.GetPoints().GetMTime(), self.mesh.GetPolys().GetMTime(), origin, tips)
+        if getattr(self, "_hidden", (None,))[0] != key:
+            self._hidden = (key, frozenset(picking.hidden_tips(self.mesh, origin, dict(tips))))
+        return set(self._hidden[1])
 
     def legend(self) -> list[tuple[str, str, str]]:
         """The vectors shown, for a legend drawn elsewhere (HTML): (letter, meaning, "#rrggbb")."""
