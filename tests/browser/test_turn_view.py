@@ -167,9 +167,11 @@ def _server_render(scene, size, *, lit_by=None):
         view.close()
 
 
-def _lesson4_page(browser, server, mode):
-    """A fresh tab on lesson 4 in interpolation ``mode``, settled."""
+def _lesson4_page(browser, server, mode, init_script=None):
+    """A fresh tab on lesson 4 in interpolation ``mode``, settled (``init_script`` runs before the page's)."""
     context = browser.new_context(viewport={"width": 1280, "height": 800})
+    if init_script:
+        context.add_init_script(init_script)
     page = Page(context.new_page(), server)
     page.open()
     if page.state("interpolation") != mode:
@@ -326,7 +328,9 @@ DRAWS_JS = r"""
   if (slow) { d.frameMs = 5000; d.roundTripMs = 1; }  // frames far slower than the colours' round trip
   const draws = (window.__draws = []);
   view.interactor.onRenderEvent(() => {
-    if (view.interactor.getEnableRender()) draws.push({ position: camera.getPosition(), colours: d.colours });
+    if (view.interactor.getEnableRender()) {
+      draws.push({ position: camera.getPosition(), colours: d.colours, at: performance.now() });
+    }
   });
   return { position: camera.getPosition(), colours: d.colours };
 }
@@ -371,5 +375,47 @@ def test_holding_the_button_still_draws_no_frames(browser, lesson4_server):
         assert draws == 0, f"{draws} frames drawn in 1.5 s of a button held still"
         page.wait_settled()
         assert not page.errors, page.errors
+    finally:
+        context.close()
+
+
+# the server's messages can be kept from the page (window.__dropMessages): a server that does not answer
+DROP_MESSAGES_JS = r"""
+(() => {
+  const Socket = window.WebSocket;
+  window.__dropMessages = false;
+  const guard = (socket, handler) => (event) => { if (!window.__dropMessages) handler.call(socket, event); };
+  window.WebSocket = class extends Socket {
+    set onmessage(handler) { super.onmessage = handler && guard(this, handler); }
+    get onmessage() { return super.onmessage; }
+    addEventListener(type, handler, options) {
+      return super.addEventListener(type, type === "message" ? guard(this, handler) : handler, options);
+    }
+  };
+})();
+"""
+
+
+def test_a_turned_view_whose_colours_never_come_is_drawn_after_its_hold(browser, lesson4_server):
+    # a held camera must not freeze the view: without colours it is drawn, with the old ones, after the hold
+    context, page = _lesson4_page(browser, lesson4_server, "gouraud", init_script=DROP_MESSAGES_JS)
+    try:
+        before = page.page.evaluate(DRAWS_JS, True)  # frames of 5 s: a hold of the longest, 1 s
+        page.page.evaluate("() => { window.__dropMessages = true; }")
+        box = page.page.locator(".phonglab-view canvas").bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.page.mouse.move(x, y)
+        pressed_at = page.page.evaluate("() => performance.now()")
+        page.page.mouse.down()
+        page.page.mouse.move(x - 60, y, steps=3)
+        page.page.mouse.up()
+        turned = wait_for(lambda: [d for d in page.page.evaluate("() => window.__draws")
+                                   if _moved(d["position"], before["position"])],
+                          "the turned view drawn without its colours", timeout=10)
+        colours = page.page.evaluate("() => window.phonglabView.phonglabDraw.colours")
+        assert colours == before["colours"], f"colours came although the server's messages were dropped: {colours}"
+        waited = turned[0]["at"] - pressed_at
+        assert turned[0]["colours"] == before["colours"], turned
+        assert waited >= 900, f"the turned view was drawn {waited:.0f} ms after the press, before its hold of 1 s ended"
     finally:
         context.close()

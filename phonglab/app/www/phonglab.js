@@ -29,8 +29,8 @@ window.phonglab = {
         // the local view this component sits in (tests and benchmarks read its camera and pixels)
         window.phonglabView = this.view;
         // not reactive: the drawing policy's bookkeeping (see the top of this file)
-        this.draw = { shown: null, colours: 0, coloursShown: 0, holdSince: null, timer: null, changedAt: null,
-                      frameMs: 0, roundTripMs: null };
+        this.draw = { shown: null, colours: 0, coloursShown: 0, holdSince: null, holdLimit: 0, timer: null,
+                      changedAt: null, frameMs: 0, roundTripMs: null };
         if (this.view) this.view.phonglabDraw = this.draw; // read by the browser tests
         const interactor = this.view && this.view.interactor;
         if (!interactor) return;
@@ -64,8 +64,7 @@ window.phonglab = {
         cameraOf(key) {
           return key === null ? null : key.split(" ").slice(0, 4).join(" ");
         },
-        // a drawn frame's cost: from the draw to the second animation frame after it (the first
-        // may come before the frame is on screen)
+        // hold only where a frame costs more than waiting for the colours
         slow() {
           const d = this.draw;
           return d.frameMs > SLOW_FRAME_MS && (d.roundTripMs === null || d.frameMs > d.roundTripMs);
@@ -87,9 +86,10 @@ window.phonglab = {
           if (newCamera && !newColours && this.expect && this.slow()) {
             if (d.holdSince === null) {
               d.holdSince = now;
-              d.timer = setTimeout(() => this.release(), this.holdLimit());
+              d.holdLimit = this.holdLimit(); // fixed for this hold: the timer and this test agree
+              d.timer = setTimeout(() => this.release(), d.holdLimit);
             }
-            draw = now - d.holdSince >= this.holdLimit();
+            draw = now - d.holdSince >= d.holdLimit;
           }
           view.phonglabHeld = !draw && newCamera;
           interactor.setEnableRender(draw);
@@ -98,30 +98,35 @@ window.phonglab = {
             queueMicrotask(() => { if (!view.phonglabHeld) interactor.setEnableRender(true); });
           }
         },
-        // a held camera is drawn: its colours came, or waiting longer would cost more than a stale frame
+        // a held camera is drawn: its colours came, or waiting longer would cost more than a stale
+        // frame. When still, it is drawn at once; during a drag by the next animation frame, which
+        // finds new colours or a hold as old as its limit (the hold ends when a frame is drawn).
         release() {
           const view = this.view, d = this.draw;
           clearTimeout(d.timer);
           d.timer = null;
-          d.holdSince = null;
           view.phonglabHeld = false;
           if (!(view.busy && view.busy.count > 0)) view.interactor.setEnableRender(true);
-          view.renderWindow.render(); // at once when still; else the next animation frame draws
+          view.renderWindow.render();
         },
         // vtk.js finished a render call: if it drew, remember what is on screen and time the frame
+        // (from the draw to the second animation frame after it: the first may come before it is on screen)
         drawn() {
           const view = this.view, d = this.draw;
           if (!view.interactor.getEnableRender()) return;
           d.shown = this.shownKey();
+          d.holdSince = null;
+          clearTimeout(d.timer);
+          d.timer = null;
+          view.phonglabHeld = false;
           const freshColours = d.colours !== d.coloursShown;
           d.coloursShown = d.colours;
           const start = performance.now();
           requestAnimationFrame(() => requestAnimationFrame(() => {
             const ms = performance.now() - start;
             d.frameMs = d.frameMs ? 0.7 * d.frameMs + 0.3 * ms : ms;
-            // the re-shaded colours are on screen (phonglab bench ui times a turn to this moment)
-            if (freshColours) window.dispatchEvent(new CustomEvent("phonglab-colors-drawn"));
           }));
+          // a frame with new colours was drawn (phonglab bench ui reads its pixels back next frame)
           if (freshColours) window.dispatchEvent(new CustomEvent("phonglab-colors-applied"));
         },
         // the browser's copy of the dataset `dataset` and its array `name` at `location`
