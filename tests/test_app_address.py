@@ -24,8 +24,8 @@ def test_nothing_asked_opens_nothing(query):
 
 
 @pytest.mark.parametrize("query, words", [
-    ("?lesson=99-nope", "no lesson '99-nope'"),
-    ("?lesson=../../etc/passwd", "no lesson"),
+    ("?lesson=99-nope", "a lesson called 99-nope, but there is none"),
+    ("?lesson=../../etc/passwd", "but there is none"),
     (42, "not a query string"),
     ("?lesson=" + "x" * 3000, "not a query string"),
 ])
@@ -175,17 +175,19 @@ def test_any_slider_position_comes_back_from_the_address(data):
 
 
 @pytest.mark.parametrize("setting, words", [
-    ("material.ks=-1", ["material.ks", "-1"]),
-    ("interpolation=banana", ["interpolation", "must be one of flat, gouraud, pixel", "banana"]),
-    ("camera.azimuth=400", ["camera.azimuth", "between -180 and 180", "400"]),
-    ("camera.azimuth=nan", ["camera.azimuth", "must be a number", "nan"]),
-    ("lights[1].color=zzz", ["lights[1].color", "#rrggbb", "zzz"]),
-    ("view.mistake=maybe", ["view.mistake", "true or false", "maybe"]),
-    ("material.kd=1,2,3,4,5", ["material.kd"]),
-    ("lights[7].intensity=1", ["unknown setting 'lights[7].intensity'"]),
-    ("colour=red", ["unknown setting 'colour'"]),
-    ("lesson.x=1", ["unknown setting 'lesson.x'"]),
-    ("material.ks=" + "1" * 300, ["material.ks", "at most 200 characters"]),
+    ("material.ks=-1", ["specular k_s (material.ks) = -1,", "out of range", "a number of 0 or more"]),
+    ("material.ks=abc", ["specular k_s (material.ks) = abc,", "not a number", "a number of 0 or more"]),
+    ("interpolation=banana", ["interpolation = banana,", "not one of its choices", "flat, gouraud or pixel"]),
+    ("camera.azimuth=400", ["eye azimuth (camera.azimuth) = 400,", "out of range", "from -180 to 180 degrees"]),
+    ("camera.azimuth=nan", ["eye azimuth (camera.azimuth) = nan,", "not a number", "from -180 to 180 degrees"]),
+    ("lights[1].color=zzz", ["light 1 colour (lights[1].color) = zzz,", "not a colour", "six hex digits"]),
+    ("view.mistake=maybe", ["show the mistake (view.mistake) = maybe,", "neither true nor false"]),
+    ("material.kd=1,2,3,4,5", ["diffuse k_d (material.kd) = 1,2,3,4,5,", "has 5 numbers", "three of them"]),
+    ("probe=1,2", ["probe point (probe) = 1,2,", "has 2 numbers", "three numbers separated by commas"]),
+    ("lights[7].intensity=1", ["lights[7].intensity = 1,", "no setting called that"]),
+    ("colour=red", ["colour = red,", "no setting called that"]),
+    ("lesson.x=1", ["lesson.x = 1,", "no setting called that"]),
+    ("material.ks=" + "1" * 300, ["material.ks", "300 characters", "at most 200"]),
 ], ids=lambda x: x[:30] if isinstance(x, str) else "")
 def test_a_bad_setting_is_dropped_with_a_notice_and_the_rest_applies(setting, words):
     query = f"?lesson=04-specular&interpolation=gouraud&{setting}&material.shininess=10"
@@ -201,11 +203,12 @@ def test_a_bad_setting_is_dropped_with_a_notice_and_the_rest_applies(setting, wo
 def test_the_address_is_bounded():
     many = "?lesson=04-specular&" + "&".join(["exposure=1.5"] * (address.MAX_SETTINGS + 10))
     scene, _, problems = _open(SPECULAR, many)
-    assert scene.exposure == 1.5 and any(f"first {address.MAX_SETTINGS} settings" in p for p in problems), problems
+    assert scene.exposure == 1.5 and any(f"more than {address.MAX_SETTINGS} settings; only the first "
+                                         f"{address.MAX_SETTINGS}" in p for p in problems), problems
     pairs, problems = address.read_query("?" + "x" * (address.MAX_QUERY_CHARS + 1))
-    assert pairs == [] and "at most" in problems[0], problems
+    assert pairs == [] and f"at most {address.MAX_QUERY_CHARS} characters" in problems[0], problems
     pairs, problems = address.read_query("?" + "k" * 100 + "=1")
-    assert pairs == [] and "unknown setting" in problems[0], problems
+    assert pairs == [] and "longer than the name of any setting" in problems[0], problems
     assert address.read_query(None) == ([], []) and address.read_query(42)[0] == []
 
 
@@ -213,6 +216,50 @@ def test_the_notice_is_one_line():
     _, _, problems = _open(SPECULAR, "?interpolation=banana&colour=red")
     text = address.notice(problems)
     assert "\n" not in text and "banana" in text and "colour" in text, text
+    assert text.endswith("The lesson opened without them; the rest of the address applies."), text
+
+
+#: bad addresses of every kind: (query after the lesson, the address key, the value as typed, the allowed words)
+PLAIN_CASES = [
+    ("material.ks=abc", "material.ks", "abc", "a number of 0 or more"),
+    ("material.ks=-1", "material.ks", "-1", "a number of 0 or more"),
+    ("material.shininess=-5", "material.shininess", "-5", "a number of 0 or more"),
+    ("material.kd=1,2", "material.kd", "1,2", "three of them (red, green, blue)"),
+    ("exposure=9", "exposure", "9", "from 0.1 to 4"),
+    ("material.ks.level=1.5", "material.ks.level", "1.5", "from 0 to 1"),
+    ("material.shininess.log=7", "material.shininess.log", "7", "from 0 to 3"),
+    ("lights[1].intensity=x", "lights[1].intensity", "x", "from 0 to 2"),
+    ("lights[1].attenuation=0,0,0", "lights[1].attenuation", "0,0,0", "above 0 at every distance"),
+    ("lights[1].position=1,2,abc", "lights[1].position", "1,2,abc", "three numbers separated by commas"),
+    ("model=phongg", "model", "phongg", "phong or blinn-phong"),
+    ("two_sided=yes", "two_sided", "yes", "true or false"),
+    ("display=x", "display", "x", "srgb or linear"),
+    ("geometry.resolution=1000", "geometry.resolution", "1000", "from 4 to 256"),
+    ("colour=red", "colour", "red", "no setting called that"),
+]
+
+
+@pytest.mark.parametrize("setting, key, value, allowed", PLAIN_CASES, ids=[c[0][:30] for c in PLAIN_CASES])
+def test_a_notice_is_a_plain_sentence_naming_key_value_and_what_is_allowed(setting, key, value, allowed):
+    _, _, problems = _open(SPECULAR, f"?lesson=04-specular&{setting}")
+    assert len(problems) == 1, (setting, problems)
+    text = address.notice(problems)
+    assert f"{key} = {value}," in text or f"({key}) = {value}," in text, (setting, text)
+    assert allowed in text, (setting, allowed, text)
+    # no Python repr quotes or brackets, no comparison signs, no "must be"/"got" of the code's messages
+    for code in ("'", '"', ">=", "<=", " > ", " < ", "got ", "must be", "[1.0", "None"):
+        assert code not in text, (setting, code, text)
+    assert "\n" not in text and text.startswith("The address asks for ") and text.count(". ") == 1, text
+    assert len(text) <= 300, (len(text), text)  # a notice is cut past 300 characters (owned.NOTICE_CHARS)
+
+
+def test_every_problem_of_an_address_reads_as_a_sentence():
+    problems = address.read_query("?" + "k" * 100 + "=1")[1] + address.read_query("?x=" + "1" * 300)[1]
+    problems += address.read_query("?" + "&".join(["exposure=1"] * (address.MAX_SETTINGS + 5)))[1]
+    problems += [address.lesson_index("?lesson=nope", ENTRIES)[1], address.lesson_index(42, ENTRIES)[1]]
+    assert len(problems) == 5, problems
+    for text in problems:
+        assert text.startswith("The address ") and text.endswith(".") and "'" not in text, problems
 
 
 @pytest.fixture
@@ -258,7 +305,7 @@ def test_a_tab_writes_its_settings_and_another_tab_opens_them(make_app):
     other._on_address()
     assert other.entry.path.stem == "02-spot" and other.scene.lights[1].cutoff == 40
     text = other.state.notice["text"]
-    assert "lights[1].exponent" in text and "-3" in text and "between 0 and 128" in text, text
+    assert "(lights[1].exponent) = -3," in text and "from 0 to 128" in text, text
     assert other.state[address.QUERY_KEY] == "?lesson=02-spot&lights[1].cutoff=40"
 
 

@@ -47,6 +47,7 @@ import math
 import re
 from urllib.parse import parse_qs, parse_qsl, urlencode
 
+from phonglab.app import wording
 from phonglab.app.control import ControlError
 from phonglab.app.keys import state_key
 
@@ -97,7 +98,7 @@ def lesson_index(query, entries):
     if query is None:
         return None, None
     if not isinstance(query, str) or len(query) > MAX_QUERY_CHARS:
-        return None, "address: not a query string"
+        return None, wording.unreadable(MAX_QUERY_CHARS)
     values = parse_qs(query.lstrip("?")).get("lesson", [])
     if not values or not values[0]:
         return None, None
@@ -105,8 +106,7 @@ def lesson_index(query, entries):
     for i, entry in enumerate(entries):
         if lesson_key(entry) == name:
             return i, None
-    known = ", ".join(lesson_key(e) for e in entries)
-    return None, f"address: no lesson {name!r}; the lessons are {known}"
+    return None, wording.no_lesson(name, [lesson_key(e) for e in entries])
 
 
 # ---------------------------------------------------------------------------
@@ -279,21 +279,21 @@ def read_query(query) -> tuple[list[tuple[str, str]], list[str]]:
     if query is None or query == "":
         return [], []
     if not isinstance(query, str) or len(query) > MAX_QUERY_CHARS:
-        return [], [f"address: not a query string of at most {MAX_QUERY_CHARS} characters"]
+        return [], [wording.unreadable(MAX_QUERY_CHARS)]
     # at most one field more than a full address (the lesson and MAX_SETTINGS settings): enough to tell
     fields = query.lstrip("?").split("&")[: MAX_SETTINGS + 2]
     pairs = parse_qsl("&".join(fields), keep_blank_values=True)
     pairs = [(k, v) for k, v in pairs if k != "lesson"]
     problems = []
     if len(pairs) > MAX_SETTINGS:
-        problems.append(f"address: only the first {MAX_SETTINGS} settings are read")
+        problems.append(wording.too_many(MAX_SETTINGS))
         pairs = pairs[:MAX_SETTINGS]
     out = []
     for key, text in pairs:
         if len(key) > MAX_KEY_CHARS:
-            problems.append(f"address: ignored an unknown setting {key[:40]!r}…")
+            problems.append(wording.long_key(key))
         elif len(text) > MAX_SETTING_CHARS:
-            problems.append(f"{key}: at most {MAX_SETTING_CHARS} characters, got {len(text)}; dropped")
+            problems.append(wording.long_value(key, len(text), MAX_SETTING_CHARS))
         else:
             out.append((key, text))
     return out, problems
@@ -346,15 +346,15 @@ def apply_settings(pairs, scene, options, controls):
         except ValueError:
             control = None
         if control is None or path == "lesson":
-            problems.append(f"address: ignored an unknown setting {path!r}")
+            problems.append(wording.unknown_setting(path, text))
             continue
         try:
             scene, options = control.apply(scene, parse_setting(control, text), options)
         except ControlError as exc:
-            problems.append(f"address: refused {exc}")
+            problems.append(wording.refusal(path, text, control, exc))
     return scene, options, problems
 
 
 def notice(problems) -> str:
-    """The problems of one address as the page's one-line notice."""
-    return "; ".join(problems) + ". The rest of the address applies."
+    """The problems of one address (plain sentences, :mod:`phonglab.app.wording`) as the page's one-line notice."""
+    return wording.address_notice(problems)

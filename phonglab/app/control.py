@@ -31,7 +31,16 @@ _HEX = re.compile(r"#[0-9a-fA-F]{6}")
 
 
 class ControlError(ValueError):
-    """A browser value was refused; the message says which control, the value and what is allowed."""
+    """A browser value was refused; the message says which control, the value and what is allowed.
+
+    ``rule`` is what is allowed in the field's own words (``"must be a finite
+    number >= 0"``) when the refusal states one, else None: what a notice in
+    plain words is made from (:mod:`phonglab.app.wording`).
+    """
+
+    def __init__(self, message: str, rule: str | None = None):
+        super().__init__(message)
+        self.rule = rule
 
 
 @dataclass(frozen=True)
@@ -61,6 +70,9 @@ class Control:
         Shown after a slider's value ("°").
     fmt : str
         How the widget value is shown; ``"alpha"`` shows ``10**value``.
+    key_step : float
+        How far one arrow key moves a slider, when that should be more than
+        ``step`` (which is also what dragging snaps to); 0 means ``step``.
     """
 
     path: str
@@ -75,6 +87,7 @@ class Control:
     unit: str = ""
     fmt: str = "{:.2f}"
     group: str = ""
+    key_step: float = 0.0
 
     @property
     def key(self) -> str:
@@ -85,30 +98,30 @@ class Control:
         """The browser value as the widget's type, or :class:`ControlError`."""
         if self.kind == "slider":
             if not isinstance(value, numbers.Real) or isinstance(value, bool):
-                raise ControlError(f"{self.path}: must be a number, got {_show(value)}")
+                raise ControlError(f"{self.path}: must be a number, got {_show(value)}", "must be a number")
             value = float(value)
             if not math.isfinite(value):
-                raise ControlError(f"{self.path}: must be a finite number, got {_show(value)}")
+                raise ControlError(f"{self.path}: must be a finite number, got {_show(value)}", "must be a finite number")
             slack = 1e-9 * max(1.0, abs(self.high - self.low))
             if not (self.low - slack <= value <= self.high + slack):
-                raise ControlError(
-                    f"{self.path}: must be between {self.low:g} and {self.high:g}, got {_show(value)}"
-                )
+                rule = f"must be between {self.low:g} and {self.high:g}"
+                raise ControlError(f"{self.path}: {rule}, got {_show(value)}", rule)
             return min(max(value, self.low), self.high)
         if self.kind == "switch":
             if not isinstance(value, bool):
-                raise ControlError(f"{self.path}: must be true or false, got {_show(value)}")
+                raise ControlError(f"{self.path}: must be true or false, got {_show(value)}", "must be true or false")
             return value
         if self.kind == "select":
             allowed = [v for v, _ in self.items]
             if not isinstance(value, str) or value not in allowed:
-                raise ControlError(f"{self.path}: must be one of {', '.join(allowed)}, got {_show(value)}")
+                rule = f"must be one of {', '.join(allowed)}"
+                raise ControlError(f"{self.path}: {rule}, got {_show(value)}", rule)
             return value
         if self.kind == "value":
             return _check_plain(self.path, value)
         if self.kind == "color":
             if not isinstance(value, str) or not _HEX.fullmatch(value.strip()):
-                raise ControlError(f"{self.path}: must be a colour #rrggbb, got {_show(value)}")
+                raise ControlError(f"{self.path}: must be a colour #rrggbb, got {_show(value)}", "must be a colour #rrggbb")
             return value.strip().lower()
         raise AssertionError(self.kind)
 
@@ -124,7 +137,8 @@ class Control:
         try:
             return self.write(scene, value, dict(options))
         except SceneError as exc:
-            raise ControlError(f"{self.path}: {_scene_reason(exc, self.path)}") from None
+            errors = getattr(exc, "errors", None) or [exc]
+            raise ControlError(f"{self.path}: {_scene_reason(exc, self.path)}", errors[0].problem) from None
         except (ValueError, TypeError, ArithmeticError) as exc:  # core validation
             raise ControlError(f"{self.path}: {exc}") from None
 
