@@ -51,6 +51,8 @@ DISPLAYS = (("srgb", "sRGB"), ("linear", "linear (as 1990s fixed-function hardwa
 EXPOSURE_RANGE = (0.1, 4.0)
 #: the shininess slider spans α = 10**0 .. 10**3
 SHININESS_LOG_RANGE = (0.0, 3.0)
+#: one arrow key on the shininess slider: 0.03 in log10 α, α × 1.07 (dragging still snaps to 0.01)
+SHININESS_KEY_STEP = 0.03
 
 
 # ---------------------------------------------------------------------------
@@ -130,7 +132,7 @@ def _shininess(group: str) -> Control:
 
     low, high = SHININESS_LOG_RANGE
     return Control(path="material.shininess.log", label=r"shininess $\alpha$", kind="slider", read=read, write=write,
-                   low=low, high=high, step=0.01, fmt="alpha", group=group)
+                   low=low, high=high, step=0.01, fmt="alpha", group=group, key_step=SHININESS_KEY_STEP)
 
 
 def _light_controls(scene, index: int, frame: Frame, read_field) -> list[Control]:

@@ -36,6 +36,7 @@ from phonglab.app.client import ArrowLetters, ColorPush
 from phonglab.app.control import Control
 from phonglab.app.controls import TERMS
 from phonglab.app import truth_ui
+from phonglab.app.slider_access import slider_attributes
 
 
 def initial_state() -> dict:
@@ -436,6 +437,7 @@ def _widget(control: Control, suffix: str = "") -> None:
                 color="primary",
                 thumb_size=14,
                 track_size=3,
+                **slider_attributes(control),  # the thumb's aria-label; the arrow keys' step
             )
     elif control.kind == "color":
         with html.Div(classes=css + " phonglab-color-row"):
