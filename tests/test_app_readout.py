@@ -14,7 +14,7 @@ import pytest
 
 import phonglab as pl
 from phonglab.app.readout import probe_readout, swatch_hex
-from phonglab.scene import load_lesson, shade
+from phonglab.scene import load_lesson, scene_to_dict, shade
 from phonglab.teaching import MISTAKES
 
 LESSONS = Path(__file__).resolve().parent.parent / "lessons"
@@ -138,3 +138,22 @@ def test_app_readout_and_export_follow_the_mistake_switch(sheet_app):
     top = rgb[: rgb.shape[0] // 10].reshape(-1, 3)
     red = np.count_nonzero((top[:, 0] > 140) & (top[:, 1] < 80) & (top[:, 2] < 80))
     assert red > 200, f"no red 'common mistake' heading at the top of {path.name}: {red} red pixels"
+
+
+@pytest.mark.parametrize("interpolation, words", [
+    ("flat", "one colour per face (flat)"),
+    ("gouraud", "interpolates vertex colours (Gouraud)"),
+    ("pixel", None),
+])
+def test_the_readout_says_its_numbers_are_exact_where_the_picture_interpolates(sheet, interpolation, words):
+    scene = sheet.replace("interpolation", interpolation)
+    out, _ = readout(scene, UNLIT, UP)
+    said = [n for n in out["notes"] if "evaluated exactly at the probe" in n]
+    if words is None:
+        assert said == [], (interpolation, out["notes"])
+    else:
+        assert len(said) == 1 and words in said[0], (interpolation, out["notes"])
+    # the same with no directed light (the ambient-only readout)
+    ambient = scene.replace("lights", [scene_to_dict(scene)["lights"][0]])
+    out = probe_readout(ambient, UNLIT, UP, None, None)
+    assert (len([n for n in out["notes"] if "evaluated exactly" in n]) == 1) == (words is not None), out["notes"]

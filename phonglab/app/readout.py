@@ -56,6 +56,13 @@ DISPLAY_NOTES = {
 }
 
 
+#: said once when the picture does not shade each pixel: the numbers are exact at the probe, the picture is not
+INTERPOLATION_NOTES = {
+    "flat": "Numbers: the model evaluated exactly at the probe; the picture shows one colour per face (flat).",
+    "gouraud": "Numbers: the model evaluated exactly at the probe; the picture interpolates vertex colours (Gouraud).",
+}
+
+
 def _rgb_text(rgb) -> str:
     return "(" + ", ".join(f"{float(c):.3f}" for c in rgb) + ")"
 
@@ -95,7 +102,8 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         ``point``, ``dots`` (list of {name, html, value}), ``terms`` (list of
         {name, value, hex}, with ``correct`` and ``correct_hex`` where a
         mistake changes the term), ``equation`` (MathML), ``notes`` (list of
-        str), ``vectors`` (letter -> "(x, y, z)"), ``display_note``, and
+        str; in flat and Gouraud mode the last one says the numbers are exact
+        at the probe while the picture is not, :data:`INTERPOLATION_NOTES`), ``vectors`` (letter -> "(x, y, z)"), ``display_note``, and
         ``mistake`` (None or {name, title, wrong, right}).
     """
     p = np.asarray(point, dtype=np.float64).reshape(1, 3)
@@ -139,6 +147,8 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
             rf"I = k_a I_a = {_rgb_tex(material.ka)} \cdot {_rgb_tex(ia)} = {_rgb_tex(total.color[0])}",
             display=True,
         )
+        if scene.interpolation in INTERPOLATION_NOTES:
+            out["notes"].append(INTERPOLATION_NOTES[scene.interpolation])
         return out
     blinn = scene.model == "blinn-phong"
     out["vectors"] = {k: _vec_text(getattr(vectors, k)) for k in "nlrvh"}
@@ -206,4 +216,6 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
             (f"{others} other lights add " if others > 1 else "1 other light adds ")
             + _rgb_text(rest) + ", for a total of " + _rgb_text(total.color[0]) + "."
         )
+    if scene.interpolation in INTERPOLATION_NOTES:
+        out["notes"].append(INTERPOLATION_NOTES[scene.interpolation])
     return out
