@@ -17,7 +17,8 @@ student thinks of it and are named like fields (see :mod:`phonglab.app.keys`):
 * ``view.term``: which term the mesh shows (a view option, not a scene field).
 
 ``material.shininess.log`` is the shininess slider: ``log10(α)`` from 0 to 3
-(α from 1 to 1000).
+(α from 1 to 1000); dragging snaps to 0.01, one arrow key moves it by
+:data:`SHININESS_KEY_STEP` (:mod:`phonglab.app.slider_access`).
 
 Besides the widgets, :func:`field_mirrors` gives a state key per scene field
 (``material__ks``, ``lights_1__position``) holding the field's value in its

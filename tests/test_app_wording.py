@@ -1,0 +1,54 @@
+"""Controls and rules in plain words: a slider's spoken name, what a field takes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from phonglab.app import controls as ctl
+from phonglab.app.slider_access import key_step_handler, slider_attributes
+from phonglab.app.wording import plain_rule, spoken_label
+from phonglab.scene import schema
+from phonglab.scene.lessons import catalog
+
+LESSONS = Path(__file__).resolve().parents[1] / "lessons"
+ENTRIES = [e for e in catalog(LESSONS)[0] if e.ok]
+
+
+@pytest.mark.parametrize("entry", ENTRIES, ids=lambda e: e.path.stem)
+def test_every_widget_of_every_lesson_has_a_plain_distinct_name(entry):
+    widgets = ctl.scene_controls(entry.scene)
+    names = {c.path: spoken_label(c) for c in widgets}
+    for path, name in names.items():
+        assert name and "$" not in name and "\\" not in name and "{" not in name, (path, name)
+    sliders = [names[c.path] for c in widgets if c.kind == "slider"]
+    assert len(set(sliders)) == len(sliders), sorted(sliders)  # a screen reader tells them apart
+
+
+@pytest.mark.parametrize("rule, words", [
+    (schema.RGB_RULE, "a number of 0 or more, or three of them (red, green, blue) separated by commas"),
+    (schema.NUMBER_RULE, "a number of 0 or more"),
+    (schema.VECTOR_RULE, "three numbers separated by commas (x, y, z)"),
+    ("must be a finite number in [0, 1]", "a number from 0 to 1"),
+    ("must be a whole number from 4 to 256", "a whole number from 4 to 256"),
+    ('must be one of "sphere", "torus"', "sphere or torus"),
+    ("must be a finite number > 0", "a number above 0"),
+    ("must be a value with x >= 2 and y <= 3", "a value with x at least 2 and y at most 3"),
+])
+def test_a_rule_reads_as_what_the_field_takes(rule, words):
+    text = plain_rule(rule)
+    assert text == words, (rule, text)
+    assert not any(code in text for code in (">", "<", "must", '"', "'")), (rule, text)
+
+
+def test_only_a_slider_with_a_key_step_takes_the_arrow_keys():
+    widgets = {c.path: c for c in ctl.scene_controls(ENTRIES[0].scene)}
+    shininess = widgets["material.shininess.log"]
+    assert shininess.key_step == ctl.SHININESS_KEY_STEP > 2 * shininess.step, shininess
+    attributes = slider_attributes(shininess)
+    assert attributes["name"] == "shininess α" and "keydown_capture" in attributes, attributes
+    handler = key_step_handler(shininess)
+    assert '"' not in handler and f"* {ctl.SHININESS_KEY_STEP!r}" in handler, handler
+    others = [c for c in widgets.values() if c.kind == "slider" and c is not shininess]
+    assert others and all(set(slider_attributes(c)) == {"name"} for c in others), others
