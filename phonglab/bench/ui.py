@@ -337,6 +337,7 @@ class KeyPress:
         self.page, self.slider, self.timing_path, self.label = page, slider, timing_path, label
         self.latency_ms: list[float] = []
         self._records_before = None
+        self._presses = 0
 
     def records(self) -> int:
         from phonglab.app import timing
@@ -354,13 +355,14 @@ class KeyPress:
         return [ms for lab, ms in timing.read(self.timing_path) if lab == self.label][self._records_before or 0:]
 
     def step(self) -> float:
-        """One press of the right arrow from a settled view; its latency in ms."""
+        """One arrow key from a settled view, right and left in turn (the slider never reaches its end); ms."""
         page = self.page
         settle(page)
         page.locator(self.slider).first.focus()
         records = self.records()
         page.evaluate("() => window.__phonglabBench.arm()")
-        page.keyboard.press("ArrowRight")
+        page.keyboard.press("ArrowRight" if self._presses % 2 == 0 else "ArrowLeft")
+        self._presses += 1
         page.wait_for_function("() => window.__phonglabBench.latency !== null", timeout=30_000)
         latency = page.evaluate("() => window.__phonglabBench.latency")
         # let the server's update land in its timing file before the next step
