@@ -488,7 +488,7 @@ def test_faces_turned_away_are_left_out_only_where_no_pixel_changes():
         assert not prop.GetBackfaceCulling(), "culled a translucent sphere (its far side shows)"
     finally:
         view.close()
-    plane = SceneView(red_sphere(geometry=Geometry("plane", 8)), size=SIZE)
+    plane = SceneView(dataclasses.replace(red_sphere(), geometry=Geometry("plane", 8)), size=SIZE)
     try:
         assert not plane.mesh_actor.GetProperty().GetBackfaceCulling(), "culled an open sheet"
     finally:
