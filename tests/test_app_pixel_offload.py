@@ -10,7 +10,12 @@ newer request has overtaken. Checked here:
    made in a running loop is the view's screenshot;
 2. with ``phonglab serve`` in its own process, tab B's round trips stay near
    their idle value while tab A has 1600 × 1600 per-pixel pictures made
-   (the measure and helpers of ``tests/test_app_offload.py``);
+   (the measure and helpers of ``tests/test_app_offload.py``). Tab A's view
+   is first resized to 1600 × 1600 and its first picture awaited: the new
+   size's G-buffer is rendered by VTK, which stays in the loop's thread, and
+   is not what is measured. Then each move of the specular slider re-shades
+   every pixel. Made in the loop (before this split), each picture held it
+   for seconds: tab B's median round trip grew 150-290 times on 2 loaded cores;
 3. a picture a newer request overtook is never shown; requests made while a
    job runs are coalesced into one; a failure in the thread is a one-line notice.
 """
@@ -85,6 +90,26 @@ def test_the_split_is_the_screenshot_byte_for_byte_even_after_the_view_moved_on(
         changed = np.count_nonzero((finished != expected).any(axis=2))
         assert changed == 0, f"mistake {mistake!r}: {changed} pixels differ from the screenshot of its moment"
         assert not np.array_equal(view.screenshot(), expected), "the changed view should look different"
+    finally:
+        view.close()
+
+
+def half_opaque(scene):
+    return scene.replace("material.opacity", 0.5)
+
+
+@pytest.mark.parametrize("interpolation", ["pixel", "gouraud"])
+def test_a_translucent_meshs_job_keeps_its_moment_in_another_thread(interpolation):
+    view = SceneView(half_opaque(pixel_sphere(interpolation=interpolation)), size=SIZE)
+    try:
+        expected = view.screenshot()
+        job = pixel_job.prepare(view, annotate=True)
+        view.update(half_opaque(pixel_sphere(interpolation=interpolation, material__ks=0.0,
+                                             camera__eye=[1.0, 0.5, 4.0])))
+        view.screenshot()
+        finished = in_other_thread(job.finish)
+        changed = np.count_nonzero((finished != expected).any(axis=2))
+        assert changed == 0, f"{interpolation}: {changed} pixels differ from the screenshot of its moment"
     finally:
         view.close()
 
@@ -235,3 +260,80 @@ def test_a_failure_in_the_thread_is_logged_and_the_tab_gets_one_line(caplog):
     text = notices[0][1]
     assert "the G-buffer is empty" in text and "\n" not in text and "Traceback" not in text, text
     assert any(record.exc_info for record in caplog.records), "the traceback should be in the server's log"
+
+
+# ---------------------------------------------------------------------------
+# 2. a real server: tab A's large per-pixel pictures, tab B's round trips
+
+#: per-pixel pictures tab A must receive in its busy phase
+PICTURES = 3
+
+
+@pytest.fixture(scope="module")
+def glossy_server(tmp_path_factory):
+    from phonglab.bench.ui import free_port, serve_command, start_server, stop_server, wait_until_serving
+
+    lessons = tmp_path_factory.mktemp("lessons")
+    (lessons / "01-glossy.md").write_text(GLOSSY, encoding="utf-8")
+    port = free_port()
+    log_path = tmp_path_factory.mktemp("serve") / "serve.log"
+    process = start_server(serve_command(lessons, port), log_path=log_path)
+    try:
+        wait_until_serving(process, port, log_path=log_path)
+        yield SimpleNamespace(port=port, process=process, log=log_path)
+    finally:
+        stop_server(process)
+
+
+def test_large_per_pixel_pictures_for_one_tab_leave_another_tab_responsive(glossy_server):
+    from test_app_offload import BOUND, BUSY_SECONDS, Messages, check_ratio, measure, published
+
+    async def shading(client, tab):
+        pictures, sent = [], 0
+
+        def seen(message):
+            for change in published(message, "pixel_src"):
+                if change["pixel_src"]:
+                    pictures.append(time.perf_counter())
+
+        async def state(key, value):
+            nonlocal sent
+            sent += 1
+            await client.send({"wslink": "1.0", "id": f"rpc:c1:set{sent}", "method": "trame.state.update",
+                               "args": [[{"key": key, "value": value}]], "kwargs": {}})
+
+        messages = Messages(client, seen)
+        pump = asyncio.create_task(messages.pump(lambda: tab["stop"]))
+        deadline = time.monotonic() + BUSY_SECONDS
+        started = time.perf_counter()
+        try:
+            # the page's largest view: its G-buffer is rendered by VTK, in the loop, before the measure
+            await state("view_size", {"size": {"width": 1600, "height": 1600}})
+            while not pictures and time.monotonic() < deadline:
+                await asyncio.sleep(0.05)
+            tab["resized s"] = round(time.perf_counter() - started, 2)
+            # then the specular slider, moved each time a picture arrives: only the shading is new
+            pictures.clear()
+            started = time.perf_counter()
+            tab["started"] = True
+            while len(pictures) < PICTURES and time.monotonic() < deadline:
+                before = len(pictures)
+                while len(pictures) == before and time.monotonic() < deadline:
+                    await asyncio.sleep(0.05)
+                await state("material__ks", round(0.2 + 0.15 * len(pictures), 2))
+        finally:
+            tab["done"] = True
+            tab["stop"] = True
+            await pump
+        spent = (pictures[-1] - started) if pictures else None
+        return {"pictures": len(pictures), "s per picture": round(spent / len(pictures), 2) if pictures else None,
+                "first picture at 1600 x 1600 after (s)": tab.get("resized s")}
+
+    attempts = []
+    for _ in range(3):  # the machine is shared: up to three measurements, the first within the bound counts
+        idle, busy, times, report = measure(glossy_server.port, shading, lambda tab: tab["done"])
+        assert report.get("pictures", 0) >= PICTURES, f"tab A got too few pictures: {report}"
+        if check_ratio(glossy_server, "per-pixel pictures", attempts, idle, busy, times, report):
+            break
+    else:
+        pytest.fail(f"tab B's round trip passed {BOUND}x its idle value in every attempt:\n" + "\n".join(attempts))
