@@ -318,9 +318,9 @@ def test_large_per_pixel_pictures_for_one_tab_leave_another_tab_responsive(gloss
             tab["started"] = True
             while len(pictures) < PICTURES and time.monotonic() < deadline:
                 before = len(pictures)
+                await state("material__ks", round(0.2 + 0.15 * len(pictures), 2))
                 while len(pictures) == before and time.monotonic() < deadline:
                     await asyncio.sleep(0.05)
-                await state("material__ks", round(0.2 + 0.15 * len(pictures), 2))
         finally:
             tab["done"] = True
             tab["stop"] = True
