@@ -26,9 +26,7 @@ errors and reports them on the page.
 from __future__ import annotations
 
 import asyncio
-import base64
 import functools
-import io
 import logging
 import time
 from dataclasses import dataclass, field
@@ -47,8 +45,9 @@ from phonglab.app import address
 from phonglab.app import download
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
+from phonglab.app.pixel_picture import PixelPicture
 from phonglab.app.timing import record
-from phonglab.render import SceneView
+from phonglab.render import SceneView, pixel_job
 from phonglab.render.translucency import translucent
 from phonglab.scene import SceneError, load_lesson, load_scene, plan
 from phonglab.scene.loader import lesson_files
@@ -126,6 +125,7 @@ class LessonApp(TrameApp):
         self.check = CheckPanel(self.state)
         self.student_code = StudentCodePanel(self.state, allow_student_code)
         self.exports = download.Exports(self.state, self.notify)  # figures made in a worker process
+        self.pictures = PixelPicture(self.state, self.notify)  # the per-pixel picture, made in a thread
         self.state.change("view_size")(self._on_view_size)
         self.state.change(address.REQUEST_KEY)(self._on_address)
         # the lesson's mistake is the server's: a browser's write is undone
@@ -354,14 +354,11 @@ class LessonApp(TrameApp):
         self.state.pixel_hint = ("Per-pixel shading by the core" if self.scene.interpolation == "pixel"
                                  else "Translucent: blended by the core in linear light")
         if not pixel:
+            self.pictures.drop()  # a picture still being made is not shown
             self.state.pixel_src = ""
             return
-        from PIL import Image
-
-        image = self.view.screenshot(annotate=True)
-        buffer = io.BytesIO()
-        Image.fromarray(image).save(buffer, format="PNG", compress_level=1)
-        self.state.pixel_src = "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+        # the VTK part here, the NumPy part and the PNG in a thread; the newest picture wins
+        self.pictures.request(lambda: pixel_job.prepare(self.view, annotate=True))
 
     def _planned(self, scene):
         """``plan(scene)``, made once per scene shown (the view's shading and the panels share it)."""
@@ -628,6 +625,7 @@ class LessonApp(TrameApp):
             self._panels_handle = None
         self.accuracy.close()
         self.exports.close()
+        self.pictures.close()
         if self.view is not None:
             try:
                 self.view.close()

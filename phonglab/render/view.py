@@ -54,8 +54,8 @@ import numpy as np
 import pyvista as pv
 import vtk
 
-from phonglab.render import actors, framing, glyphs, picking, pixels, shading, translucency
-from phonglab.render._vtk import hidden, make_render_window, read_depth, read_rgb, set_camera
+from phonglab.render import actors, framing, glyphs, picking, pixel_job, pixels, shading
+from phonglab.render._vtk import make_render_window, set_camera
 from phonglab.render.arrows import ProbeArrows
 from phonglab.render.annotate import draw_labels, draw_legend
 from phonglab.render.camera import CameraState, check_camera
@@ -608,6 +608,10 @@ class SceneView:
         image = draw_labels(image, labels)
         return draw_legend(image, entries) if legend else image
 
+    def image_labels(self, height: int):
+        """What :meth:`annotate` draws on an image ``height`` pixels tall: ``(labels, entries)``, None without labels."""
+        return self._arrows.image_labels(lambda world: self.to_image(world, height)) if self.show_labels else None
+
     def to_image(self, world, height: int | None = None) -> tuple[float, float]:
         """Where a world point lands on an image of the window as it is now rendered.
 
@@ -643,19 +647,8 @@ class SceneView:
         -------
         ndarray, shape (height, width, 3), uint8
         """
-        pixel_mode = self.scene.interpolation == "pixel"
-        translucent = translucency.translucent(self.scene)
-        # VTK's text is not in images (they get their own letters); in pixel mode the core draws the mesh
-        with hidden(self._glyphs.text_actors() + ([self._mesh_actor] if pixel_mode or translucent else [])):
-            self.render()
-            image = read_rgb(self.render_window)
-            if translucent:  # the mesh's two layers blended over the glyphs and background
-                image = translucency.composite_view(self, image, read_depth(self.render_window))
-            elif pixel_mode:
-                image = pixels.composite(image, read_depth(self.render_window), self.gbuffer(), self.pixel_image(),
-                                         self.renderer.GetActiveCamera())
-        if annotate:
-            image = self.annotate(image)
+        # the VTK part here, then the NumPy part (a server runs that one in a thread: pixel_job)
+        image = pixel_job.prepare(self, annotate=annotate).finish()
         if path is not None:
             save_png(image, path)
         return image

@@ -1,0 +1,145 @@
+"""One tab's per-pixel picture, made off the event loop every tab shares.
+
+In pixel mode, and for a translucent mesh, the page shows the core's
+picture of the view: the state key ``pixel_src``, a PNG ``data:`` URL. At
+the page's largest view (1600 × 1600) making it takes a second or more,
+nearly all of it NumPy: the core shading every covered pixel, compositing
+by depth, drawing the letters, the PNG. Run in the event loop, that second
+is one every other tab waits through. So the screenshot is made in two
+parts (:mod:`phonglab.render.pixel_job`): the VTK part (render, read the
+buffers, the G-buffer passes) in the loop, because VTK's OpenGL contexts
+belong to its thread; the NumPy part and the PNG in a worker thread, where
+NumPy lets go of the interpreter for its array work.
+
+What :class:`PixelPicture` promises:
+
+* **one job per tab at a time**. A request while one runs is remembered;
+  when the job ends, the newest request remembered is prepared (its VTK part,
+  for the view as it is then) and started. Requests in between are
+  coalesced into that one.
+* **the newest wins**. Every request and every :meth:`~PixelPicture.drop`
+  counts; a job's picture is shown only when nothing has counted since it
+  was started. An older picture never replaces a newer one, and a picture
+  arriving after the page left pixel mode is not shown.
+* **without a running event loop** (scripts, tests) the picture is made at
+  once, in the caller's thread, as it always was.
+* a failure in the thread is logged with its traceback; the tab gets a
+  one-line notice, without it.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import functools
+import io
+import logging
+
+from phonglab.app import owned
+
+log = logging.getLogger(__name__)
+
+#: the state key the page's picture is read from
+STATE_KEY = "pixel_src"
+
+
+def picture_url(job) -> str:
+    """``job.finish()`` (the picture, uint8 RGB) as a PNG ``data:`` URL; no VTK, safe in a worker thread."""
+    from PIL import Image
+
+    buffer = io.BytesIO()
+    Image.fromarray(job.finish()).save(buffer, format="PNG", compress_level=1)
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+class PixelPicture:
+    """The picture of one tab's view, its NumPy half made in a worker thread.
+
+    Parameters
+    ----------
+    state : trame state
+        Gets :data:`STATE_KEY` (flushed when a picture comes from the thread).
+    notify : callable
+        ``notify(kind, text)``: a notice on the page.
+
+    Attributes
+    ----------
+    serial : int
+        Counts requests and drops: a job's picture is shown only if its serial is still this one.
+    """
+
+    def __init__(self, state, notify):
+        self.state = state
+        self.notify = notify
+        self.serial = 0
+        self._running = None  # the job in its thread (an asyncio future), or None
+        self._next = None  # the newest request made while a job runs: the callable that prepares it
+        self._closed = False
+
+    @property
+    def busy(self) -> bool:
+        """True while a job is being finished in its thread."""
+        return self._running is not None
+
+    def request(self, prepare) -> None:
+        """Show the picture ``prepare()`` stands for, once it is made.
+
+        Parameters
+        ----------
+        prepare : callable
+            Called in the loop's thread (now, or when the job running ends):
+            does the VTK part and returns a job whose ``finish()`` makes the
+            picture (:func:`phonglab.render.pixel_job.prepare`). Its
+            exceptions reach the caller when it is called now.
+        """
+        self.serial += 1
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:  # no server loop (scripts, tests): at once
+            loop = None
+        if loop is None:
+            self._next = None
+            self.state[STATE_KEY] = picture_url(prepare())
+        elif self._running is not None:
+            self._next = prepare  # made after the job running, which will not be shown
+        else:
+            self._start(loop, prepare)
+
+    def drop(self) -> None:
+        """No picture is wanted (the page left pixel mode): a job running and a request waiting are not shown."""
+        self.serial += 1
+        self._next = None
+
+    def close(self) -> None:
+        """The tab is closing: nothing more is started or shown."""
+        self.drop()
+        self._closed = True
+
+    def _start(self, loop, prepare) -> None:
+        serial = self.serial
+        job = prepare()  # the VTK part, here in the loop's thread
+        self._running = loop.run_in_executor(None, picture_url, job)
+        self._running.add_done_callback(functools.partial(self._done, serial))
+
+    def _done(self, serial: int, future) -> None:
+        """Back in the loop's thread: show the picture if it is still the newest; start the request waiting."""
+        self._running = None
+        if self._closed:
+            return
+        try:
+            url = future.result()
+        except Exception as exc:
+            log.exception("the per-pixel picture")
+            if serial == self.serial:
+                self.notify("error", f"Could not make the per-pixel picture: {owned.reason(exc)}")
+        else:
+            if serial == self.serial:
+                self.state[STATE_KEY] = url
+        prepare, self._next = self._next, None
+        if prepare is not None:
+            try:
+                self._start(asyncio.get_running_loop(), prepare)
+            except Exception as exc:
+                log.exception("the per-pixel picture")
+                self.notify("error", f"Could not make the per-pixel picture: {owned.reason(exc)}")
+        self.state.flush()
