@@ -17,10 +17,13 @@ What :class:`PixelPicture` promises:
   when the job ends, the newest request remembered is prepared (its VTK part,
   for the view as it is then) and started. Requests in between are
   coalesced into that one.
-* **the newest wins**. Every request and every :meth:`~PixelPicture.drop`
-  counts; a job's picture is shown only when nothing has counted since it
-  was started. An older picture never replaces a newer one, and a picture
-  arriving after the page left pixel mode is not shown.
+* **the picture follows, newest last**. Jobs run one after another, each
+  for the newest scene when it starts, and each finished picture is shown:
+  during a slider drag the picture keeps up as fast as pictures are made
+  (a picture may be a scene or two behind the slider until the drag
+  pauses, then the last one is the newest scene's). An older picture never
+  replaces a newer one, and a picture arriving after the page left pixel
+  mode (:meth:`~PixelPicture.drop`) is not shown.
 * **without a running event loop** (scripts, tests) the picture is made at
   once, in the caller's thread, as it always was.
 * a failure in the thread is logged with its traceback; the tab gets a
@@ -65,13 +68,14 @@ class PixelPicture:
     Attributes
     ----------
     serial : int
-        Counts requests and drops: a job's picture is shown only if its serial is still this one.
+        Counts requests and drops: a job's picture is shown only if no drop came after it started.
     """
 
     def __init__(self, state, notify):
         self.state = state
         self.notify = notify
         self.serial = 0
+        self._dropped = 0  # the serial of the last drop: pictures started before it are not shown
         self._running = None  # the job in its thread (an asyncio future), or None
         self._next = None  # the newest request made while a job runs: the callable that prepares it
         self._closed = False
@@ -101,13 +105,14 @@ class PixelPicture:
             self._next = None
             self.state[STATE_KEY] = picture_url(prepare())
         elif self._running is not None:
-            self._next = prepare  # made after the job running, which will not be shown
+            self._next = prepare  # made after the job running (a newer request replaces it)
         else:
             self._start(loop, prepare)
 
     def drop(self) -> None:
         """No picture is wanted (the page left pixel mode): a job running and a request waiting are not shown."""
         self.serial += 1
+        self._dropped = self.serial
         self._next = None
 
     def close(self) -> None:
@@ -122,7 +127,7 @@ class PixelPicture:
         self._running.add_done_callback(functools.partial(self._done, serial))
 
     def _done(self, serial: int, future) -> None:
-        """Back in the loop's thread: show the picture if it is still the newest; start the request waiting."""
+        """Back in the loop's thread: show the picture unless it was dropped; start the request waiting."""
         self._running = None
         if self._closed:
             return
@@ -130,10 +135,10 @@ class PixelPicture:
             url = future.result()
         except Exception as exc:
             log.exception("the per-pixel picture")
-            if serial == self.serial:
+            if serial > self._dropped:
                 self.notify("error", f"Could not make the per-pixel picture: {owned.reason(exc)}")
         else:
-            if serial == self.serial:
+            if serial > self._dropped:
                 self.state[STATE_KEY] = url
         prepare, self._next = self._next, None
         if prepare is not None:
