@@ -24,29 +24,10 @@ import pytest
 
 from phonglab.app import guard, protocol
 from phonglab.app.server import SessionServer
+from phonglab.bench.scenes import lesson, red_sphere_tables
 from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
 
-LESSON = """+++
-title = "A small sphere"
-controls = ["material.ks"]
-
-[geometry]
-kind = "sphere"
-resolution = 12
-
-[material]
-ka = 0.1
-kd = 0.7
-ks = 0.5
-shininess = 20
-
-[[lights]]
-type = "point"
-position = [2, 2, 3]
-+++
-
-# A small sphere
-"""
+LESSON = lesson('title = "A small sphere"\ncontrols = ["material.ks"]', red_sphere_tables(12), "# A small sphere")
 PROXY = "https://phong.example.org"
 MAX_SESSIONS = 2
 
