@@ -21,11 +21,12 @@ from types import SimpleNamespace
 import aiohttp
 import msgpack
 import pytest
+from app_support import serving
 
 from phonglab.app import guard, protocol
 from phonglab.app.server import SessionServer
 from phonglab.bench.scenes import lesson, red_sphere_tables
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+from phonglab.bench.ui import log_tail
 
 LESSON = lesson('title = "A small sphere"\ncontrols = ["material.ks"]', red_sphere_tables(12), "# A small sphere")
 PROXY = "https://phong.example.org"
@@ -424,14 +425,9 @@ def test_a_host_that_does_not_resolve_is_a_one_line_error():
 
 @pytest.fixture(scope="module")
 def own_process(lessons, tmp_path_factory):
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("serve") / "serve.log"
-    process = start_server(serve_command(lessons, port), log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-        yield SimpleNamespace(port=port, pid=process.pid, log=log_path, process=process)
-    finally:
-        stop_server(process)
+    with serving(lessons, log_path=tmp_path_factory.mktemp("serve") / "serve.log") as served:
+        process = served["process"]
+        yield SimpleNamespace(port=served["port"], pid=process.pid, log=served["log"], process=process)
 
 
 def rss_mb(pid: int) -> float:
