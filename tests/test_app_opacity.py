@@ -13,8 +13,9 @@ import io
 import numpy as np
 import pytest
 
-from phonglab.app.lesson_app import LessonApp
 from phonglab.bench.scenes import lesson, red_sphere_tables
+
+from app_support import open_app
 
 GLASS = lesson(
     """
@@ -29,11 +30,7 @@ interpolation = "gouraud"
 
 @pytest.fixture
 def app(tmp_path):
-    from trame.app import get_server
-
-    (tmp_path / "01-glass.md").write_text(GLASS, encoding="utf-8")
-    server = get_server(f"test-opacity-{tmp_path.name}", client_type="vue3")
-    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
+    application = open_app(tmp_path, "01-glass.md", GLASS, "test-opacity")
     yield application
     application.close()
 

@@ -5,18 +5,14 @@ from __future__ import annotations
 import pytest
 
 from phonglab.app import owned
-from phonglab.app.lesson_app import LessonApp
 
+from app_support import open_app
 from test_app_page import MISTAKE_LESSON  # the lesson with a mistake switch
 
 
 @pytest.fixture
 def app(tmp_path):
-    from trame.app import get_server
-
-    (tmp_path / "01-raw.md").write_text(MISTAKE_LESSON, encoding="utf-8")
-    server = get_server(f"test-owned-{tmp_path.name}", client_type="vue3")
-    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
+    application = open_app(tmp_path, "01-raw.md", MISTAKE_LESSON, "test-owned")
     yield application
     application.close()
 

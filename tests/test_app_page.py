@@ -15,6 +15,8 @@ from phonglab.bench.scenes import lesson, red_sphere_tables, write_lessons
 from phonglab.render.glyphs import COLOR_ARRAY
 from phonglab.scene import load_lesson
 
+from app_support import open_app
+
 #: the red sphere with two of its controls and a probe
 GOOD = lesson(
     """
@@ -241,11 +243,7 @@ MISTAKE_LESSON = GOOD.replace('probe = [0.3, 0.4, 0.866]', 'probe = [0.3, 0.4, 0
 
 @pytest.fixture
 def mistake_app(tmp_path):
-    from trame.app import get_server
-
-    (tmp_path / "01-raw.md").write_text(MISTAKE_LESSON, encoding="utf-8")
-    server = get_server(f"test-mistake-{tmp_path.name}", client_type="vue3")
-    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
+    application = open_app(tmp_path, "01-raw.md", MISTAKE_LESSON, "test-mistake")
     yield application
     application.close()
 
