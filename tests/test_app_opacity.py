@@ -15,8 +15,6 @@ import pytest
 
 from phonglab.bench.scenes import lesson, red_sphere_tables
 
-from app_support import open_app
-
 GLASS = lesson(
     """
 number = 1
@@ -29,10 +27,8 @@ interpolation = "gouraud"
 
 
 @pytest.fixture
-def app(tmp_path):
-    application = open_app(tmp_path, "01-glass.md", GLASS, "test-opacity")
-    yield application
-    application.close()
+def app(lesson_app):
+    return lesson_app("01-glass.md", GLASS, "test-opacity")
 
 
 def shown(app) -> np.ndarray:

@@ -6,15 +6,12 @@ import pytest
 
 from phonglab.app import owned
 
-from app_support import open_app
 from test_app_page import MISTAKE_LESSON  # the lesson with a mistake switch
 
 
 @pytest.fixture
-def app(tmp_path):
-    application = open_app(tmp_path, "01-raw.md", MISTAKE_LESSON, "test-owned")
-    yield application
-    application.close()
+def app(lesson_app):
+    return lesson_app("01-raw.md", MISTAKE_LESSON, "test-owned")
 
 
 @pytest.mark.parametrize("written", ["abc", 3, [1, 2], {"available": True}, None])

@@ -15,8 +15,6 @@ from phonglab.bench.scenes import lesson, red_sphere_tables, write_lessons
 from phonglab.render.glyphs import COLOR_ARRAY
 from phonglab.scene import load_lesson
 
-from app_support import open_app
-
 #: the red sphere with two of its controls and a probe
 GOOD = lesson(
     """
@@ -242,10 +240,8 @@ MISTAKE_LESSON = GOOD.replace('probe = [0.3, 0.4, 0.866]', 'probe = [0.3, 0.4, 0
 
 
 @pytest.fixture
-def mistake_app(tmp_path):
-    application = open_app(tmp_path, "01-raw.md", MISTAKE_LESSON, "test-mistake")
-    yield application
-    application.close()
+def mistake_app(lesson_app):
+    return lesson_app("01-raw.md", MISTAKE_LESSON, "test-mistake")
 
 
 def test_the_mistake_switch_goes_through_the_view_and_says_when_it_cannot_show(mistake_app):
