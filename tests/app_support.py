@@ -1,6 +1,9 @@
-"""What the app's tests share: a LessonApp on a lesson folder of its own, and a browser camera turned about the eye."""
+"""What the app's tests share: a LessonApp on a lesson folder of its own, a browser camera turned about the eye,
+and ``phonglab serve`` in a process of its own."""
 
 from __future__ import annotations
+
+import contextlib
 
 import numpy as np
 
@@ -27,3 +30,35 @@ def browser_camera(scene, degrees: float) -> dict:
     turn = np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
     return {"position": (np.add(c.focal_point, turn @ offset)).tolist(), "focalPoint": list(c.focal_point),
             "viewUp": list(c.up), "viewAngle": c.view_angle}
+
+
+def start_app(target, *flags: str, log_path, port: int | None = None, timeout: float = 60.0) -> dict:
+    """``phonglab serve target *flags`` on 127.0.0.1, started and answering.
+
+    ``port`` is a free one when not given (a restart passes the old one). Returns a dict with ``url``,
+    ``port``, ``process`` and ``log`` (the server's output). Raises ``RuntimeError`` holding the end
+    of the log when the server exits or does not answer within ``timeout`` seconds; the process is
+    stopped by then.
+    """
+    from phonglab.bench.ui import free_port, serve_command, start_server, stop_server, wait_until_serving
+
+    port = free_port() if port is None else port
+    process = start_server(serve_command(target, port) + list(flags), log_path=log_path)
+    try:
+        wait_until_serving(process, port, log_path=log_path, timeout=timeout)
+    except BaseException:
+        stop_server(process)
+        raise
+    return {"url": f"http://127.0.0.1:{port}/", "port": port, "process": process, "log": log_path}
+
+
+@contextlib.contextmanager
+def serving(target, *flags: str, log_path, timeout: float = 60.0):
+    """:func:`start_app` for a ``with`` block: the server is stopped (its process group, by PID) on leaving."""
+    from phonglab.bench.ui import stop_server
+
+    server = start_app(target, *flags, log_path=log_path, timeout=timeout)
+    try:
+        yield server
+    finally:
+        stop_server(server["process"])

@@ -29,5 +29,24 @@ def _no_event_loop_left_running(request):
     finally:
         asyncio._set_running_loop(loop)
 
+
+@pytest.fixture
+def lesson_app(tmp_path):
+    """A factory: ``lesson_app(name, text, server_name)`` is :func:`app_support.open_app` on ``tmp_path``.
+
+    Every app it opened is closed when the test ends.
+    """
+    from app_support import open_app
+
+    opened = []
+
+    def open_one(name: str, text: str, server_name: str):
+        opened.append(open_app(tmp_path, name, text, server_name))
+        return opened[-1]
+
+    yield open_one
+    for application in opened:
+        application.close()
+
 # this file is set-up, not a module of tests: keep --doctest-modules from importing it a second time
 collect_ignore = ["conftest.py"]

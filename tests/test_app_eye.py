@@ -14,7 +14,7 @@ from phonglab.app import eye
 from phonglab.bench.scenes import lesson, red_sphere, red_sphere_tables
 from phonglab.scene import SceneError
 
-from app_support import browser_camera, open_app
+from app_support import browser_camera
 
 SPHERE = lesson(
     """
@@ -29,10 +29,8 @@ probe = [0.3, 0.4, 0.866]
 
 
 @pytest.fixture
-def app(tmp_path):
-    application = open_app(tmp_path, "04-sphere.md", SPHERE, "test-eye")
-    yield application
-    application.close()
+def app(lesson_app):
+    return lesson_app("04-sphere.md", SPHERE, "test-eye")
 
 
 def test_scene_camera_takes_the_browsers_camera_and_keeps_infinite_viewer():

@@ -13,7 +13,6 @@ import io
 import numpy as np
 import pytest
 
-from phonglab.app.lesson_app import LessonApp
 from phonglab.bench.scenes import lesson, red_sphere_tables
 
 GLASS = lesson(
@@ -28,14 +27,8 @@ interpolation = "gouraud"
 
 
 @pytest.fixture
-def app(tmp_path):
-    from trame.app import get_server
-
-    (tmp_path / "01-glass.md").write_text(GLASS, encoding="utf-8")
-    server = get_server(f"test-opacity-{tmp_path.name}", client_type="vue3")
-    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
-    yield application
-    application.close()
+def app(lesson_app):
+    return lesson_app("01-glass.md", GLASS, "test-opacity")
 
 
 def shown(app) -> np.ndarray:

@@ -5,20 +5,13 @@ from __future__ import annotations
 import pytest
 
 from phonglab.app import owned
-from phonglab.app.lesson_app import LessonApp
 
 from test_app_page import MISTAKE_LESSON  # the lesson with a mistake switch
 
 
 @pytest.fixture
-def app(tmp_path):
-    from trame.app import get_server
-
-    (tmp_path / "01-raw.md").write_text(MISTAKE_LESSON, encoding="utf-8")
-    server = get_server(f"test-owned-{tmp_path.name}", client_type="vue3")
-    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
-    yield application
-    application.close()
+def app(lesson_app):
+    return lesson_app("01-raw.md", MISTAKE_LESSON, "test-owned")
 
 
 @pytest.mark.parametrize("written", ["abc", 3, [1, 2], {"available": True}, None])

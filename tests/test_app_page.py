@@ -240,14 +240,8 @@ MISTAKE_LESSON = GOOD.replace('probe = [0.3, 0.4, 0.866]', 'probe = [0.3, 0.4, 0
 
 
 @pytest.fixture
-def mistake_app(tmp_path):
-    from trame.app import get_server
-
-    (tmp_path / "01-raw.md").write_text(MISTAKE_LESSON, encoding="utf-8")
-    server = get_server(f"test-mistake-{tmp_path.name}", client_type="vue3")
-    application = LessonApp(server, target=tmp_path, export_dir=tmp_path / "exports")
-    yield application
-    application.close()
+def mistake_app(lesson_app):
+    return lesson_app("01-raw.md", MISTAKE_LESSON, "test-mistake")
 
 
 def test_the_mistake_switch_goes_through_the_view_and_says_when_it_cannot_show(mistake_app):

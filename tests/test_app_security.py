@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import asyncio
 import itertools
-import os
 import statistics
 import struct
 import threading
@@ -21,32 +20,14 @@ from types import SimpleNamespace
 import aiohttp
 import msgpack
 import pytest
+from app_support import serving
 
 from phonglab.app import guard, protocol
 from phonglab.app.server import SessionServer
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+from phonglab.bench.scenes import lesson, red_sphere_tables
+from phonglab.bench.ui import log_tail
 
-LESSON = """+++
-title = "A small sphere"
-controls = ["material.ks"]
-
-[geometry]
-kind = "sphere"
-resolution = 12
-
-[material]
-ka = 0.1
-kd = 0.7
-ks = 0.5
-shininess = 20
-
-[[lights]]
-type = "point"
-position = [2, 2, 3]
-+++
-
-# A small sphere
-"""
+LESSON = lesson('title = "A small sphere"\ncontrols = ["material.ks"]', red_sphere_tables(12), "# A small sphere")
 PROXY = "https://phong.example.org"
 MAX_SESSIONS = 2
 
@@ -443,14 +424,9 @@ def test_a_host_that_does_not_resolve_is_a_one_line_error():
 
 @pytest.fixture(scope="module")
 def own_process(lessons, tmp_path_factory):
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("serve") / "serve.log"
-    process = start_server(serve_command(lessons, port), log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-        yield SimpleNamespace(port=port, pid=process.pid, log=log_path, process=process)
-    finally:
-        stop_server(process)
+    with serving(lessons, log_path=tmp_path_factory.mktemp("serve") / "serve.log") as served:
+        process = served["process"]
+        yield SimpleNamespace(port=served["port"], pid=process.pid, log=served["log"], process=process)
 
 
 def rss_mb(pid: int) -> float:

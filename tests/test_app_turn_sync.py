@@ -12,7 +12,7 @@ import pytest
 
 from phonglab.bench.scenes import lesson, red_sphere_tables
 
-from app_support import browser_camera, open_app
+from app_support import browser_camera
 
 SPHERE = lesson(
     """
@@ -28,10 +28,8 @@ probe = [0.3, 0.4, 0.866]
 
 
 @pytest.fixture
-def app(tmp_path):
-    application = open_app(tmp_path, "04-sphere.md", SPHERE, "test-turn-sync")
-    yield application
-    application.close()
+def app(lesson_app):
+    return lesson_app("04-sphere.md", SPHERE, "test-turn-sync")
 
 
 def test_the_colour_push_carries_the_hash_trame_vtk_gives_the_array(app):

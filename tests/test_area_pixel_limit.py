@@ -4,27 +4,13 @@ from __future__ import annotations
 
 import pytest
 
+from phonglab.bench.scenes import red_sphere_tables
 from phonglab.scene import SceneError, load_scene
 from phonglab.scene.limits import PIXEL_PICTURE, check_picture_work, shaded_points
 from phonglab.scene.schema import MAX_AREA_SAMPLE_POINTS
 
-SCENE = """
-interpolation = "{interpolation}"
-
-[geometry]
-kind = "sphere"
-resolution = 12
-
-[material]
-ka = 0.1
-kd = 0.7
-ks = 0.5
-shininess = 20
-
-[[lights]]
-type = "point"
-position = [2, 2, 3]
-
+#: the area light added to the red sphere (resolution 12: 84 vertices)
+AREA_LIGHT = """
 [area_light]
 position = [-0.5, 2, -0.5]
 method = "uniform"
@@ -34,7 +20,8 @@ samples = {samples}
 
 def scene_file(tmp_path, interpolation: str, samples: int):
     path = tmp_path / f"{interpolation}-{samples}.toml"
-    path.write_text(SCENE.format(interpolation=interpolation, samples=samples), encoding="utf-8")
+    text = f'interpolation = "{interpolation}"\n\n' + red_sphere_tables(12) + AREA_LIGHT.format(samples=samples)
+    path.write_text(text, encoding="utf-8")
     return path
 
 

@@ -5,7 +5,9 @@ from __future__ import annotations
 import os
 import time
 
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+from app_support import serving
+
+from phonglab.bench.ui import log_tail
 from phonglab.render._files import STALE_AFTER, temp_name
 
 LESSON = """+++
@@ -38,15 +40,10 @@ def test_serve_start_removes_stale_export_temporaries(tmp_path):
     os.utime(stale, (long_ago, long_ago))
     os.utime(figure, (long_ago, long_ago))
 
-    port = free_port()
     log = tmp_path / "serve.log"
-    process = start_server(serve_command(tmp_path, port) + ["--export-dir", str(exports)], log_path=log)
-    try:
-        wait_until_serving(process, port, log_path=log)
+    with serving(tmp_path, "--export-dir", str(exports), log_path=log):
         left = sorted(p.name for p in exports.iterdir())
         shown = f"left in the export folder: {left}\nserver log:\n{log_tail(log)}"
         assert not stale.exists(), f"the stale temporary {stale.name} is still there at start\n{shown}"
         assert all(p.exists() for p in kept), f"a file that is not a stale temporary was removed\n{shown}"
         assert f"removed 1 temporary file(s) an interrupted export left in {exports}" in log_tail(log), shown
-    finally:
-        stop_server(process)

@@ -1,30 +1,31 @@
-"""Fixtures for the browser tests: a ``phonglab serve`` server and headless Chromium.
+"""Fixtures for the browser tests: ``phonglab serve`` servers and headless Chromium.
 
-The server runs the test lessons of :data:`phonglab.bench.scenes.LESSONS`
-(small meshes, known lights) on a free 127.0.0.1 port, in its own process
-group, and is killed by PID at the end. Chromium is Debian's ``/usr/bin/chromium`` driven by Playwright; if
+``serve_app(target, *flags)`` starts a server for a lesson or folder on a free
+127.0.0.1 port, in its own process group; a second call with the same target
+and flags gets the same server, and every server it started is killed by PID
+at the end of the session. ``server`` is the one most tests share: the test
+lessons of :data:`phonglab.bench.scenes.LESSONS` (small meshes, known lights).
+Chromium is Debian's ``/usr/bin/chromium`` driven by Playwright; if
 it is missing the tests fail (they never skip) and say how to install it.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 
 import pytest
+from app_support import start_app
 
 from phonglab.bench.scenes import write_lessons
 from phonglab.bench.ui import (
     CHROMIUM,
     CHROMIUM_MISSING,
     MEASURE_JS,
-    free_port,
     launch_chromium,
     log_tail,
-    serve_command,
-    start_server,
     stop_server,
-    wait_until_serving,
 )
 
 
@@ -39,19 +40,35 @@ def export_dir(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="session")
-def server(lesson_dir, export_dir, tmp_path_factory):
-    """``phonglab serve`` on a free 127.0.0.1 port; yields a dict with url, process and log path."""
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("server") / "serve.log"
-    command = serve_command(lesson_dir, port) + ["--export-dir", str(export_dir)]
-    process = start_server(command, log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-    except RuntimeError as exc:
-        stop_server(process)
-        pytest.fail(f"phonglab serve did not start: {exc}")
-    yield {"url": f"http://127.0.0.1:{port}/", "process": process, "log": log_path, "port": port}
-    stop_server(process)
+def serve_app(tmp_path_factory):
+    """A factory: ``serve_app(target, *flags, timeout=60)`` is ``phonglab serve target *flags``, answering.
+
+    It returns a dict with url, port, process and log path. The same target and
+    flags give the same server (started once a session); all are stopped by PID
+    when the session ends. A server that does not start fails the test with the
+    end of its log.
+    """
+    started: dict[tuple, dict] = {}
+
+    def serve(target, *flags, timeout: float = 60.0) -> dict:
+        key = (os.fspath(target), tuple(str(f) for f in flags))
+        if key not in started:
+            log_path = tmp_path_factory.mktemp("server") / "serve.log"
+            try:
+                started[key] = start_app(target, *key[1], log_path=log_path, timeout=timeout)
+            except RuntimeError as exc:
+                pytest.fail(f"phonglab serve {' '.join((key[0], *key[1]))} did not start: {exc}", pytrace=False)
+        return started[key]
+
+    yield serve
+    for running in started.values():
+        stop_server(running["process"])
+
+
+@pytest.fixture(scope="session")
+def server(serve_app, lesson_dir, export_dir):
+    """``phonglab serve`` of the test lessons; a dict with url, port, process and log path."""
+    return serve_app(lesson_dir, "--export-dir", export_dir)
 
 
 @pytest.fixture(scope="session")
@@ -107,6 +124,18 @@ class Page:
         """Set a state key from the browser, the way a client message would (value as JavaScript)."""
         self.page.evaluate(f"() => window.trame.state.set({key!r}, {value_js})")
 
+    def pixel_image(self):
+        """The per-pixel picture the page shows over the view (the server's PNG), as RGB ints."""
+        import base64
+        import io
+
+        import numpy as np
+        from PIL import Image
+
+        src = self.page.locator(".phonglab-pixel img").get_attribute("src") or ""
+        assert src.startswith("data:image/png;base64,"), src[:40]
+        return np.asarray(Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1]))).convert("RGB")).astype(int)
+
     def text(self, selector) -> str:
         return self.page.locator(selector).first.inner_text()
 
@@ -148,10 +177,14 @@ class Page:
         self.page.close()
 
 
-@pytest.fixture
-def app_page(browser, server):
-    """A fresh tab on the app (its own session); fails on page errors or internet requests."""
-    context = browser.new_context(viewport={"width": 1280, "height": 800})
+@contextlib.contextmanager
+def open_tab(browser, server, *, width: int = 1280, height: int = 800):
+    """A fresh tab on ``server`` (its own browser context, so its own session), opened.
+
+    On leaving the block without an error, it fails on JavaScript errors, requests
+    to the internet or a server that died (with the end of the server's log).
+    """
+    context = browser.new_context(viewport={"width": width, "height": height})
     page = Page(context.new_page(), server)
     try:
         yield page.open()
@@ -160,6 +193,13 @@ def app_page(browser, server):
         assert server["process"].poll() is None, f"the server died:\n{log_tail(server['log'])}"
     finally:
         context.close()
+
+
+@pytest.fixture
+def app_page(browser, server):
+    """A fresh tab on the app (its own session); fails on page errors or internet requests."""
+    with open_tab(browser, server) as page:
+        yield page
 
 
 @pytest.fixture

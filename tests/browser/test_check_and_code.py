@@ -13,9 +13,8 @@ import pytest
 from waiting import wait_for
 
 from phonglab.bench.scenes import write_lessons
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
 
-from conftest import Page
+from conftest import open_tab
 
 CORRECT = Path(__file__).resolve().parents[1] / "data" / "grade" / "correct.py"
 CHECK = """
@@ -28,34 +27,19 @@ feedback = ["0 is where the light grazes the surface.", "Right: cos 0 = 1.", "-1
 
 
 @pytest.fixture(scope="module")
-def code_server(tmp_path_factory):
+def code_server(serve_app, tmp_path_factory):
     folder = write_lessons(tmp_path_factory.mktemp("lessons-check"))
     first = folder / "01-sphere.md"
     lines = first.read_text().splitlines(keepends=True)
     closing = [i for i, line in enumerate(lines) if line.strip() == "+++"][1]
     first.write_text("".join(lines[:closing]) + CHECK + "".join(lines[closing:]))
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("server-code") / "serve.log"
-    process = start_server(serve_command(first, port) + ["--allow-student-code"], log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-    except RuntimeError as exc:
-        stop_server(process)
-        pytest.fail(f"phonglab serve --allow-student-code did not start: {exc}")
-    yield {"url": f"http://127.0.0.1:{port}/", "process": process, "log": log_path, "port": port}
-    stop_server(process)
+    return serve_app(first, "--allow-student-code")
 
 
 @pytest.fixture
 def code_page(browser, code_server):
-    context = browser.new_context(viewport={"width": 1280, "height": 900})
-    page = Page(context.new_page(), code_server)
-    try:
-        yield page.open()
-        assert not page.errors, f"JavaScript errors on the page: {page.errors}"
-        assert code_server["process"].poll() is None, f"the server died:\n{log_tail(code_server['log'])}"
-    finally:
-        context.close()
+    with open_tab(browser, code_server, height=900) as page:
+        yield page
 
 
 def test_check_question_gives_feedback_then_offers_the_explanation(code_page):

@@ -113,16 +113,16 @@ def test_the_address_carries_the_lesson_and_its_settings_through_reload_and_a_fr
 
 
 def test_after_a_server_restart_the_tab_comes_back_to_the_same_lesson(browser, lesson_dir, tmp_path):
-    from phonglab.bench.ui import free_port, serve_command, start_server, stop_server, wait_until_serving
+    from app_support import start_app
 
-    port = free_port()
-    command = serve_command(lesson_dir, port)
-    process = start_server(command, log_path=tmp_path / "first.log")
+    from phonglab.bench.ui import stop_server
+
+    served = start_app(lesson_dir, log_path=tmp_path / "first.log")
+    process = served["process"]
     context = browser.new_context(viewport={"width": 1280, "height": 800})
     try:
-        wait_until_serving(process, port, log_path=tmp_path / "first.log")
         page = context.new_page()
-        page.goto(f"http://127.0.0.1:{port}/?lesson=02-spot")
+        page.goto(served["url"] + "?lesson=02-spot")
         title = ("() => { const e = document.querySelector('.phonglab-lesson-title');"
                  " return e && e.innerText.endsWith('A spotlight on a floor'); }")
         page.wait_for_function(title, timeout=60_000)
@@ -134,8 +134,7 @@ def test_after_a_server_restart_the_tab_comes_back_to_the_same_lesson(browser, l
         page.wait_for_selector(".phonglab-reconnecting", state="visible", timeout=30_000)
         assert "Reconnecting" in page.locator(".phonglab-reconnecting").inner_text()
         # ... and, once the server is back on the same port, shows the same lesson again by itself
-        process = start_server(command, log_path=tmp_path / "second.log")
-        wait_until_serving(process, port, log_path=tmp_path / "second.log")
+        process = start_app(lesson_dir, log_path=tmp_path / "second.log", port=served["port"])["process"]
         page.wait_for_function(title, timeout=60_000)
         page.wait_for_selector(".phonglab-reconnecting", state="detached", timeout=30_000)
         # the same settings in the address (a reload may hand the page its query percent-encoded,

@@ -9,16 +9,13 @@ highlight's specular and the view must carry the "deliberately wrong" banner.
 
 from __future__ import annotations
 
-import base64
 import io
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import Page
+from conftest import open_tab
 from waiting import wait_for
-
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
 
 LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 
@@ -53,32 +50,17 @@ UNLIT = "[-0.1, 0.15, 0.0]"
 
 
 @pytest.fixture(scope="module")
-def truth_server(tmp_path_factory):
+def truth_server(serve_app, tmp_path_factory):
     folder = tmp_path_factory.mktemp("truth-lessons")
     (folder / "01-grey.md").write_text(GREY, encoding="utf-8")
     (folder / "09-sheet.md").write_text((LESSONS / "09-two-sided-and-hard-cases.md").read_text("utf-8"), "utf-8")
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("truth-server") / "serve.log"
-    process = start_server(serve_command(folder, port), log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-    except RuntimeError as exc:
-        stop_server(process)
-        pytest.fail(f"phonglab serve did not start: {exc}")
-    yield {"url": f"http://127.0.0.1:{port}/", "process": process, "log": log_path, "port": port}
-    stop_server(process)
+    return serve_app(folder)
 
 
 @pytest.fixture
 def tab(browser, truth_server):
-    context = browser.new_context(viewport={"width": 1280, "height": 800})
-    page = Page(context.new_page(), truth_server)
-    try:
-        yield page.open()
-        assert not page.errors, f"JavaScript errors on the page: {page.errors}"
-        assert truth_server["process"].poll() is None, f"the server died:\n{log_tail(truth_server['log'])}"
-    finally:
-        context.close()
+    with open_tab(browser, truth_server) as page:
+        yield page
 
 
 def view_pixels(tab) -> np.ndarray:
@@ -107,14 +89,6 @@ def test_half_grey_mesh_shows_188_and_128_with_the_linear_display(tab):
     assert "linear light" in note and "raw" in note, note
 
 
-def pixel_image(tab) -> np.ndarray:
-    from PIL import Image
-
-    src = tab.page.locator(".phonglab-pixel img").get_attribute("src") or ""
-    assert src.startswith("data:image/png;base64,"), src[:40]
-    return np.asarray(Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1]))).convert("RGB")).astype(int)
-
-
 def test_mistake_readout_shows_the_unlit_highlight_and_the_view_carries_the_banner(tab):
     page = tab.page
     tab.open_lesson("Two-sided surfaces and hard cases")
@@ -123,7 +97,7 @@ def test_mistake_readout_shows_the_unlit_highlight_and_the_view_carries_the_bann
     tab.wait_settled()
     assert tab.readout()["terms"].get("specular") == "(0.000, 0.000, 0.000)", tab.readout()
     assert not page.locator(".phonglab-wrong-banner").count(), "a banner while the picture is correct"
-    before = pixel_image(tab)
+    before = tab.pixel_image()
     page.locator(".phonglab-mistake-switch input").click()
     wait_for(lambda: tab.state("view__mistake") is True, "the mistake switch to turn on")
     specular = wait_for(lambda: (t := tab.readout()["terms"].get("specular")) != "(0.000, 0.000, 0.000)" and t,
@@ -134,7 +108,7 @@ def test_mistake_readout_shows_the_unlit_highlight_and_the_view_carries_the_bann
     wrong = page.locator(".phonglab-term-wrong[data-wrong-term=specular]")
     assert "(0.000, 0.000, 0.000)" in wrong.inner_text() and "dot(n, l) > 0" in wrong.inner_text(), wrong.inner_text()
     # the picture has the highlight: much brighter pixels than without the mistake
-    after = wait_for(lambda: [img for img in [pixel_image(tab)]
+    after = wait_for(lambda: [img for img in [tab.pixel_image()]
                               if img.shape == before.shape and not np.array_equal(img, before)],
                      "the per-pixel picture to change with the mistake")[0]
     def whitish(img):  # the grey-white highlight (the arrows are saturated colours; the lamp's white

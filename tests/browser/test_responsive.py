@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+from phonglab.bench.ui import log_tail
 
 LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 SLUGS = sorted(p.stem for p in LESSONS.glob("*.md") if p.stem[:2].isdigit())
@@ -120,18 +120,10 @@ FRAMES = "() => new Promise((done) => requestAnimationFrame(() => requestAnimati
 
 
 @pytest.fixture(scope="module")
-def lessons_server(tmp_path_factory):
-    """``phonglab serve lessons/`` on a free port (the real lessons, not the test ones)."""
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("responsive") / "serve.log"
-    process = start_server(serve_command(LESSONS, port), log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-    except RuntimeError as exc:
-        stop_server(process)
-        pytest.fail(f"phonglab serve lessons/ did not start: {exc}")
-    yield {"url": f"http://127.0.0.1:{port}/index.html", "process": process, "log": log_path}
-    stop_server(process)
+def lessons_server(serve_app):
+    """``phonglab serve lessons/`` (the real lessons, not the test ones), addressed by its index.html."""
+    served = serve_app(LESSONS)
+    return {**served, "url": served["url"] + "index.html"}
 
 
 @pytest.fixture(scope="module")

@@ -4,24 +4,14 @@ from __future__ import annotations
 
 import pytest
 
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+from phonglab.bench.ui import log_tail
 from waiting import wait_for
 
 
 @pytest.fixture(scope="module")
-def one_seat(lesson_dir, tmp_path_factory):
+def one_seat(serve_app, lesson_dir):
     """``phonglab serve --max-sessions 1`` on a free port."""
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("one-seat") / "serve.log"
-    process = start_server(serve_command(lesson_dir / "01-sphere.md", port) + ["--max-sessions", "1"],
-                           log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-    except RuntimeError as exc:
-        stop_server(process)
-        pytest.fail(f"phonglab serve did not start: {exc}")
-    yield {"url": f"http://127.0.0.1:{port}/", "port": port, "log": log_path, "process": process}
-    stop_server(process)
+    return serve_app(lesson_dir / "01-sphere.md", "--max-sessions", "1")
 
 
 def test_a_tab_past_max_sessions_shows_that_the_server_is_full(browser, one_seat):

@@ -28,7 +28,6 @@ import pytest
 
 import phonglab as pl
 from phonglab.app.eye import scene_camera
-from phonglab.bench.ui import serve_command
 from phonglab.render import SceneView
 from phonglab.render.compare import image_difference
 from phonglab.scene import load_lesson
@@ -68,19 +67,8 @@ READ_MESH_JS = r"""
 
 
 @pytest.fixture(scope="module")
-def lesson4_server(tmp_path_factory):
-    from phonglab.bench.ui import free_port, start_server, stop_server, wait_until_serving
-
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("turn-server") / "serve.log"
-    process = start_server(serve_command(LESSON, port), log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path, timeout=120)
-    except RuntimeError as exc:
-        stop_server(process)
-        pytest.fail(f"phonglab serve did not start: {exc}")
-    yield {"url": f"http://127.0.0.1:{port}/", "process": process, "log": log_path, "port": port}
-    stop_server(process)
+def lesson4_server(serve_app):
+    return serve_app(LESSON, timeout=120)
 
 
 MODES = ("flat", "gouraud", "pixel")
