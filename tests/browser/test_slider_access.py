@@ -16,7 +16,7 @@ from waiting import wait_for
 
 from phonglab.app import controls as ctl
 from phonglab.app.wording import spoken_label
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+from phonglab.bench.ui import log_tail
 from phonglab.scene.lessons import catalog
 
 LESSONS = Path(__file__).resolve().parents[2] / "lessons"
@@ -25,19 +25,15 @@ SHININESS = "material__shininess__log"
 
 
 @pytest.fixture(scope="module")
-def lesson4(browser, tmp_path_factory):
+def lesson4(browser, serve_app):
     """A tab on ``phonglab serve lessons/`` showing lesson 4, and the lesson's catalogue entry."""
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("slider-access") / "serve.log"
-    process = start_server(serve_command(LESSONS, port), log_path=log_path)
-    context = None
+    served = serve_app(LESSONS)  # shared with the other tests of the real lessons
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
     try:
-        wait_until_serving(process, port, log_path=log_path)
-        context = browser.new_context(viewport={"width": 1280, "height": 800})
         page = context.new_page()
         errors = []
         page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(f"http://127.0.0.1:{port}/?lesson={SLUG}")
+        page.goto(f"{served['url']}?lesson={SLUG}")
         page.wait_for_function(
             "(q) => window.trame && window.trame.state && window.trame.state.get('url_query') === q"
             " && document.querySelector('.phonglab-control [role=slider]')",
@@ -45,11 +41,9 @@ def lesson4(browser, tmp_path_factory):
         entry = next(e for e in catalog(LESSONS)[0] if e.path.stem == SLUG)
         yield page, entry
         assert not errors, f"JavaScript errors on the page: {errors}"
-        assert process.poll() is None, f"the server died:\n{log_tail(log_path)}"
+        assert served["process"].poll() is None, f"the server died:\n{log_tail(served['log'])}"
     finally:
-        if context is not None:
-            context.close()
-        stop_server(process)
+        context.close()
 
 
 def test_every_slider_thumb_is_named_after_its_control(lesson4):
