@@ -31,7 +31,8 @@ import msgpack
 import pytest
 
 from phonglab.app import protocol
-from phonglab.bench.ui import free_port, log_tail, serve_command, start_server, stop_server, wait_until_serving
+from app_support import serving
+from phonglab.bench.ui import log_tail
 from test_app_security import LESSON, logged_in
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -59,14 +60,8 @@ def own_process(tmp_path_factory):
     (lessons / "01-sphere.md").write_text(LESSON, encoding="utf-8")
     (lessons / "02-accuracy.md").write_text((ROOT / "lessons" / "11-accuracy.md").read_text(encoding="utf-8"),
                                             encoding="utf-8")
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("serve") / "serve.log"
-    process = start_server(serve_command(lessons, port), log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-        yield SimpleNamespace(port=port, process=process, log=log_path)
-    finally:
-        stop_server(process)
+    with serving(lessons, log_path=tmp_path_factory.mktemp("serve") / "serve.log") as server:
+        yield SimpleNamespace(port=server["port"], process=server["process"], log=server["log"])
 
 
 def trigger_of(template: str, args: str) -> str:

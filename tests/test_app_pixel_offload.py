@@ -34,6 +34,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from app_support import serving
 from phonglab.app import pixel_picture
 from phonglab.app.pixel_picture import PixelPicture
 from phonglab.bench.scenes import lesson, red_sphere, red_sphere_tables
@@ -275,18 +276,10 @@ PICTURES = 3
 
 @pytest.fixture(scope="module")
 def glossy_server(tmp_path_factory):
-    from phonglab.bench.ui import free_port, serve_command, start_server, stop_server, wait_until_serving
-
     lessons = tmp_path_factory.mktemp("lessons")
     (lessons / "01-glossy.md").write_text(GLOSSY, encoding="utf-8")
-    port = free_port()
-    log_path = tmp_path_factory.mktemp("serve") / "serve.log"
-    process = start_server(serve_command(lessons, port), log_path=log_path)
-    try:
-        wait_until_serving(process, port, log_path=log_path)
-        yield SimpleNamespace(port=port, process=process, log=log_path)
-    finally:
-        stop_server(process)
+    with serving(lessons, log_path=tmp_path_factory.mktemp("serve") / "serve.log") as server:
+        yield SimpleNamespace(port=server["port"], process=server["process"], log=server["log"])
 
 
 def test_large_per_pixel_pictures_for_one_tab_leave_another_tab_responsive(glossy_server):
