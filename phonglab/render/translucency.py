@@ -183,20 +183,3 @@ def composite(behind: np.ndarray, behind_distance: np.ndarray, layers, alpha: fl
     out[covered] = pixels
     return out
 
-
-def composite_view(view, behind: np.ndarray, depth: np.ndarray) -> np.ndarray:
-    """A :class:`~phonglab.render.view.SceneView`'s translucent mesh over ``behind`` (its render without the mesh).
-
-    ``depth`` is that render's depth buffer, read before anything else is
-    rendered in the window (its clipping range gives the distances).
-    """
-    scene = view.scene
-    camera = view.renderer.GetActiveCamera()
-    encoding = getattr(scene, "display", "srgb")
-    behind_distance = eye_distance(camera, depth)
-    if scene.interpolation == "pixel":
-        layers = [pixel_layer(scene, view.gbuffer(cull=cull), camera, view.term, view.mistake)
-                  for cull in (CULL_FAR, CULL_NEAR)]
-    else:
-        layers = vtk_layers(view.render_window, view.renderer, view.mesh_actor, encoding)
-    return composite(behind, behind_distance, layers, float(scene.material.opacity), encoding)
