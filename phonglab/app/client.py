@@ -44,13 +44,16 @@ class ColorPush(AbstractElement):
         A binding, true when the server answers a turn of the view with
         colours (not while it sends a picture instead): only then may the
         browser hold a turned frame for them (see ``www/phonglab.js``).
+    picture : tuple
+        The binding of the core's picture over the view (per-pixel mode):
+        the letters hidden during a drag come back with its next one.
     """
 
     def __init__(self, **kwargs):
         super().__init__("phonglab-colors", **kwargs)
         if self.server:
             self.server.enable_module(MODULE)
-        self._attr_names += ["push", "expect"]
+        self._attr_names += ["push", "expect", "picture"]
 
 
 def dataset_id(mapper) -> str:

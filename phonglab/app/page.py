@@ -250,7 +250,7 @@ class _Page:
                     Animation=(self.handlers.camera_move or self.handlers.camera,
                                "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.view:
-                    ColorPush(push=("view_colors",), expect=("!pixel_mode",))
+                    ColorPush(push=("view_colors",), expect=("!pixel_mode",), picture=("pixel_src",))
                     ArrowLetters(tips=("arrow_tips", []))  # in every mode, over the pixel image too
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
@@ -272,7 +272,7 @@ class _Page:
                         v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
                         v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
                 html.Div(
-                    "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view and it follows' : "
+                    "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you let go' : "
                     "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
                     "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
                     classes="phonglab-hint",

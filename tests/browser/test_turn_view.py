@@ -407,3 +407,31 @@ def test_a_turned_view_whose_colours_never_come_is_drawn_after_its_hold(browser,
         assert waited >= 900, f"the turned view was drawn {waited:.0f} ms after the press, before its hold of 1 s ended"
     finally:
         context.close()
+
+
+def test_over_the_per_pixel_picture_a_drag_draws_nothing_and_the_letters_wait_for_the_new_picture(
+        browser, lesson4_server):
+    # the core's picture covers vtk.js's canvas: its frames are never seen, and letters placed for the turning
+    # camera would leave the picture's arrows; they come back with the picture for the new eye
+    context, page = _lesson4_page(browser, lesson4_server, "pixel")
+    try:
+        page.page.evaluate(DRAWS_JS, False)
+        picture = page.state("pixel_src")
+        box = page.page.locator(".phonglab-view canvas").bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.page.mouse.move(x, y)
+        page.page.mouse.down()
+        for step in range(1, 6):
+            page.page.mouse.move(x - 15 * step, y)
+            page.page.wait_for_timeout(60)
+        during = page.page.evaluate("() => ({ draws: window.__draws.length, letters: getComputedStyle("
+                                    "document.querySelector('.phonglab-letters')).display })")
+        page.page.mouse.up()
+        assert during["draws"] == 0, f"{during['draws']} frames drawn under the per-pixel picture during the drag"
+        assert during["letters"] == "none", f"letters shown over the old picture during the drag: {during}"
+        wait_for(lambda: page.state("pixel_src") != picture, "the per-pixel picture for the new eye", timeout=60)
+        wait_for(lambda: page.page.evaluate("() => getComputedStyle(document.querySelector('.phonglab-letters'))"
+                                            ".display") != "none", "the letters back on the new picture", timeout=10)
+        assert not page.errors, page.errors
+    finally:
+        context.close()

@@ -15,12 +15,17 @@
 // slower than the colours' round trip (and slower than SLOW_FRAME_MS), a new camera is held, not
 // drawn, until its colours arrive or a frame's time has passed; and an animation frame in which
 // nothing changed (the button held still) is not drawn at all. The letters wait with the mesh.
+// Where the core's picture covers the view (per-pixel mode, a translucent mesh) vtk.js's frames
+// are never seen: a drag draws none, and the letters hide until the picture for the new eye comes
+// (at most LETTERS_BACK_MS after the drag), rather than float over the old picture's arrows.
 const SLOW_FRAME_MS = 50;
 const HOLD_MIN_MS = 100, HOLD_MAX_MS = 1000;
+const LETTERS_BACK_MS = 5000;
 window.phonglab = {
   install(app) {
     app.component("phonglab-colors", {
-      props: { push: { type: Object, default: null }, expect: { type: Boolean, default: true } },
+      props: { push: { type: Object, default: null }, expect: { type: Boolean, default: true },
+               picture: { type: String, default: "" } },
       inject: { view: { default: null } },
       data() {
         return { pending: null, tries: 0 };
@@ -30,7 +35,7 @@ window.phonglab = {
         window.phonglabView = this.view;
         // not reactive: the drawing policy's bookkeeping (see the top of this file)
         this.draw = { shown: null, colours: 0, coloursShown: 0, holdSince: null, holdLimit: 0, timer: null,
-                      changedAt: null, frameMs: 0, roundTripMs: null };
+                      changedAt: null, frameMs: 0, roundTripMs: null, lettersTimer: null };
         if (this.view) this.view.phonglabDraw = this.draw; // read by the browser tests
         const interactor = this.view && this.view.interactor;
         if (!interactor) return;
@@ -42,13 +47,23 @@ window.phonglab = {
       },
       beforeUnmount() {
         (this.subscriptions || []).forEach((s) => s.unsubscribe());
-        if (this.draw) clearTimeout(this.draw.timer);
+        if (this.draw) {
+          clearTimeout(this.draw.timer);
+          clearTimeout(this.draw.lettersTimer);
+        }
       },
       watch: {
         push(value) {
           this.pending = value;
           this.tries = 0;
           this.apply();
+        },
+        // the core's picture for the view as it is now: letters back on it (unless a drag goes on)
+        picture() {
+          const view = this.view;
+          if (view && view.phonglabLettersHidden && !(view.interactor && view.interactor.isAnimating())) {
+            this.showLetters();
+          }
         },
       },
       methods: {
@@ -72,10 +87,29 @@ window.phonglab = {
         holdLimit() {
           return Math.min(HOLD_MAX_MS, Math.max(HOLD_MIN_MS, this.draw.frameMs));
         },
+        showLetters() {
+          clearTimeout(this.draw.lettersTimer);
+          this.view.phonglabLettersHidden = false;
+        },
+        // the core's picture covers the view: nothing of vtk.js's is seen during a drag, and the letters
+        // (placed for the browser's camera) would leave the picture's arrows until its next picture
+        covered(ending) {
+          const view = this.view, interactor = view.interactor, d = this.draw;
+          interactor.setEnableRender(false);
+          if (ending) queueMicrotask(() => interactor.setEnableRender(true)); // drawn normally again after
+          if (this.cameraOf(this.shownKey()) === this.cameraOf(d.shown)) return; // not turned (yet)
+          view.phonglabLettersHidden = true;
+          clearTimeout(d.lettersTimer);
+          d.lettersTimer = setTimeout(() => this.showLetters(), LETTERS_BACK_MS);
+        },
         // called by vtk.js before it draws an animation frame (and before the frame after a drag's end)
         frame(ending) {
           const view = this.view, interactor = view.interactor, d = this.draw;
           if (!view.renderer || (view.busy && view.busy.count > 0)) return; // trame is loading a scene: its switch
+          if (!this.expect) {
+            this.covered(ending);
+            return;
+          }
           const key = this.shownKey();
           const newCamera = this.cameraOf(key) !== this.cameraOf(d.shown);
           const newColours = d.colours !== d.coloursShown;
@@ -262,6 +296,11 @@ window.phonglab = {
           const renderer = view && view.renderer;
           const canvas = this.host.querySelector("canvas");
           if (!renderer || !canvas || view.phonglabHeld) return; // a held camera: the letters wait with the mesh
+          if (view.phonglabLettersHidden) { // a drag over the core's picture: back with its next picture
+            this.layer.style.display = "none";
+            this.seen = "";
+            return;
+          }
           const camera = renderer.getActiveCamera();
           // the view angle spans the view's shorter side, as in the server's images (SceneView), so a
           // view taller than wide frames the scene as the per-pixel image does and the letters meet its arrows
