@@ -315,3 +315,22 @@ def test_the_address_written_stays_within_the_bounds_it_is_read_with(monkeypatch
     query = address.ViewAddress().query(SPECULAR, scene, options, controls)
     assert len(query) <= 80 and query.startswith("?lesson=04-specular&lights[1].type=spot"), query
     assert address.read_query(query)[1] == [], query
+
+
+def test_a_view_zoomed_past_the_eye_sliders_end_writes_an_address_that_reads_back():
+    # the wheel can take the eye closer than the eye-distance slider goes (0.68 against 1.5): the address then
+    # carries the slider's end, and reopening it refuses nothing
+    from phonglab.app.eye import scene_camera
+
+    c = SPECULAR.scene.camera
+    direction = [e - f for e, f in zip(c.eye, c.focal_point)]
+    length = sum(d * d for d in direction) ** 0.5
+    near = [f + d * 0.68 / length for f, d in zip(c.focal_point, direction)]
+    scene = scene_camera(SPECULAR.scene, {"position": near, "focalPoint": list(c.focal_point), "viewUp": list(c.up)})
+    controls = _controls(SPECULAR)
+    controls.update(scene)
+    assert controls.by_key["camera__distance"].read(scene, dict(address.DEFAULT_OPTIONS)) == pytest.approx(0.68)
+    query = address.ViewAddress().query(SPECULAR, scene, dict(address.DEFAULT_OPTIONS), controls)
+    assert "camera.distance=1.5" in query.split("?")[1].split("&"), query
+    _, _, problems = _open(SPECULAR, query)
+    assert problems == [], (query, problems)

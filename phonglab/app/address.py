@@ -148,8 +148,14 @@ def compact_number(x, decimals: int) -> str:
 
 
 def format_setting(control, value) -> str | None:
-    """A control's value as the address writes it; None when it cannot be written."""
+    """A control's value as the address writes it; None when it cannot be written.
+
+    A slider's value past its ends (the view zoomed in with the wheel beyond the eye's
+    distance slider, say) is written at the nearest end: an address this app writes is
+    one it reads back without a refusal.
+    """
     if control.kind == "slider":
+        value = min(max(float(value), control.low), control.high)
         return compact_number(value, _decimals(control.step))
     if control.kind == "switch":
         return "true" if value else "false"
