@@ -115,9 +115,9 @@ window.phonglab = {
           const newColours = d.colours !== d.coloursShown;
           const changed = key !== d.shown || newColours;
           const now = performance.now();
-          if (newCamera && this.expect && d.changedAt === null) d.changedAt = now;
+          if (newCamera && d.changedAt === null) d.changedAt = now;
           let draw = changed;
-          if (newCamera && !newColours && this.expect && this.slow()) {
+          if (newCamera && !newColours && this.slow()) {
             if (d.holdSince === null) {
               d.holdSince = now;
               d.holdLimit = this.holdLimit(); // fixed for this hold: the timer and this test agree
