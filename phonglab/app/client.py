@@ -24,10 +24,10 @@ from trame_client.widgets.core import AbstractElement
 #: folder served to the browser under ``/__phonglab``
 WWW = Path(__file__).with_name("www")
 
-#: trame module: serve ``www/`` and load ``phonglab.js`` as the Vue plugin ``window.phonglab``
+#: trame module: serve ``www/``, load ``phonglab.js`` (the Vue plugin ``window.phonglab``) and ``formulas.js``
 MODULE = {
     "serve": {"__phonglab": str(WWW)},
-    "scripts": ["__phonglab/phonglab.js"],
+    "scripts": ["__phonglab/phonglab.js", "__phonglab/formulas.js"],
     "styles": ["__phonglab/phonglab.css"],
     "vue_use": ["phonglab"],
 }

@@ -1,0 +1,256 @@
+// phonglab's page: fitting formulas to their boxes (loaded with phonglab.js).
+//
+// Formulas live in narrow columns: the lesson's display formulas (.math-block) and the
+// readout's substituted equation (.eq-row). One wider than its box is first scaled down,
+// but not below MIN_SCALE of its size (smaller indices become unreadable); if it still
+// does not fit, it is broken into lines before its top-level operators (=, ≈, +, −, then
+// · and ∘), each continuation line indented; a piece that is still too wide scrolls
+// sideways within its box, with a fade at the edge where more of it is hidden.
+(function () {
+  const MIN_SCALE = 0.9;
+  // break before these operators, the first group first
+  const BREAKS = [["=", "≈", "≤", "≥", "<", ">", "→"], ["+", "−", "-", "±"], ["·", "∘", "×"]];
+  const OPEN = "([{⟨|‖", CLOSE = ")]}⟩|‖";
+  const originals = new WeakMap();
+
+  // the operator an element of a row starts with (a sub/superscript's base counts)
+  function opText(el) {
+    const tag = el.localName;
+    if (tag === "mo") return el.textContent.trim();
+    if (tag === "msup" || tag === "msub" || tag === "msubsup") return el.firstElementChild ? opText(el.firstElementChild) : null;
+    return null;
+  }
+
+  // a prime written as a superscript (α′ from \alpha') is set after its letter, as a prime glyph
+  // (already raised by the font), not shrunk again as a script of a script
+  function markPrimes(math) {
+    math.querySelectorAll("msup").forEach((sup) => {
+      const [base, script] = sup.children;
+      if (!base || !script || sup.children.length !== 2 || !/^[′″‴]+$/.test(script.textContent.trim())) return;
+      const row = document.createElementNS(sup.namespaceURI, "mrow");
+      const prime = document.createElementNS(sup.namespaceURI, "mi");
+      prime.textContent = script.textContent.trim();
+      prime.setAttribute("class", "math-prime");
+      row.append(base, prime);
+      sup.replaceWith(row);
+    });
+  }
+
+  // the box a formula must fit in, and its <math>: the .math-block itself, or a .math-fit around
+  // an equation row's formula (added here once)
+  function boxOf(el) {
+    if (el.classList.contains("math-block")) return el;
+    const math = el.querySelector(":scope > math");
+    if (!math) return el.querySelector(":scope > .math-fit");
+    const box = document.createElement("div");
+    box.className = "math-fit";
+    math.replaceWith(box);
+    box.appendChild(math);
+    return box;
+  }
+
+  // the formula as the server sent it (kept on first sight; put back before each new fitting)
+  function restore(box) {
+    let math = box.querySelector(":scope > math");
+    if (!math) return null;
+    const original = originals.get(box);
+    if (!original) originals.set(box, math.cloneNode(true));
+    else if (math.querySelector(":scope > mtable.math-lines")) {
+      const fresh = original.cloneNode(true);
+      math.replaceWith(fresh);
+      math = fresh;
+    }
+    return math;
+  }
+
+  // the pieces of a formula's row (groups such as [ ... ] opened up) and the indices before which
+  // it may break, by priority: outside brackets (=, then + −, then · ∘, then between two bracketed
+  // factors, ")(" ), then inside big brackets (\left[ ... \right]); never inside small ones,
+  // such as max(0, n·l)
+  function breakPoints(row, deep = true) {
+    const kids = [];
+    const open = (el) => Array.from(el.children).forEach((kid) => (deep && kid.localName === "mrow" ? open(kid) : kids.push(kid)));
+    open(row);
+    const points = BREAKS.map(() => []).concat([[]], BREAKS.map(() => []));
+    const FACTOR = BREAKS.length, INSIDE = BREAKS.length + 1;
+    const stack = []; // 1 for a big bracket, 2 for a small one
+    const depth = () => stack.reduce((a, b) => a + b, 0);
+    kids.forEach((kid, i) => {
+      const op = opText(kid);
+      const opens = op && op.length === 1 && OPEN.includes(op) && !CLOSE.includes(op);
+      const closes = op && op.length === 1 && CLOSE.includes(op) && !OPEN.includes(op);
+      const d = depth();
+      if (op && i > 0 && d <= 1) {
+        const level = BREAKS.findIndex((group) => group.includes(op));
+        if (level >= 0) points[d ? INSIDE + level : level].push(i);
+        let k = i - 1;
+        while (k > 0 && kids[k].localName === "mspace") k--; // a thin space between the factors
+        const before = opText(kids[k]);
+        if (opens && d === 0 && before && before.length === 1 && CLOSE.includes(before)) points[FACTOR].push(i);
+      }
+      if (opens) {
+        const mo = kid.localName === "mo" ? kid : kid.firstElementChild;
+        stack.push(mo && mo.getAttribute("stretchy") === "true" ? 1 : 2);
+      } else if (closes) stack.pop();
+    });
+    return { kids, points };
+  }
+
+  // lines of a row that fit in `room`: break before operators of the highest priority that
+  // does (greedy, each line as long as fits), else add the next group of operators; returns
+  // lists of children, or null when the row cannot be broken
+  function lines(row, room) {
+    // groups stay whole (their brackets keep their size) when breaking outside them is enough
+    const outside = linesOf(row, room, false);
+    return outside && outside.fits ? outside.parts : (linesOf(row, room, true) || outside || {}).parts || null;
+  }
+
+  function linesOf(row, room, deep) {
+    const { kids, points } = breakPoints(row, deep);
+    if (kids.length < 2) return null;
+    const left = kids.map((k) => k.getBoundingClientRect().left);
+    const right = kids.map((k) => k.getBoundingClientRect().right);
+    const indent = 1.2 * parseFloat(getComputedStyle(row).fontSize);
+    const width = (from, to, first) => right[to - 1] - left[from] + (first ? 0 : indent);
+    let allowed = [];
+    let cuts = null;
+    for (const level of points) {
+      if (!level.length) continue;
+      allowed = allowed.concat(level).sort((a, b) => a - b);
+      cuts = [];
+      let from = 0, last = null;
+      for (const at of allowed.concat([kids.length])) {
+        if (width(from, at, !cuts.length) <= room) { last = at; continue; }
+        if (last !== null && last > from && last < kids.length) { cuts.push(last); from = last; }
+        if (at < kids.length && width(from, at, !cuts.length) > room && at > from) { cuts.push(at); from = at; last = null; }
+        else last = at;
+      }
+      const starts = [0].concat(cuts), ends = cuts.concat([kids.length]);
+      if (starts.every((s, i) => width(s, ends[i], i === 0) <= room)) break;
+    }
+    if (!cuts || !cuts.length) return null;
+    const starts = [0].concat(cuts), ends = cuts.concat([kids.length]);
+    const fits = starts.every((s, i) => width(s, ends[i], i === 0) <= room);
+    return { parts: starts.map((s, i) => kids.slice(s, ends[i])), fits };
+  }
+
+  // a piece that starts with its operator keeps the operator's spacing (binary, not a sign)
+  function infix(mrow) {
+    const first = mrow.firstElementChild;
+    const binary = first && first.localName === "mo" && BREAKS.some((group) => group.includes(first.textContent.trim()));
+    if (binary && !first.hasAttribute("form")) first.setAttribute("form", "infix");
+    return mrow;
+  }
+
+  // the formula, still one <math>, as a one-column table of its lines (the first line's
+  // pieces, then each continuation line from its operator on)
+  function breakInto(box, math, room) {
+    let row = math;
+    while (row.children.length === 1 && ["mrow", "semantics"].includes(row.firstElementChild.localName)) row = row.firstElementChild;
+    const parts = lines(row, room);
+    if (!parts) return false;
+    const ns = math.namespaceURI;
+    const table = document.createElementNS(ns, "mtable");
+    table.setAttribute("class", "math-lines");
+    parts.forEach((part, i) => {
+      const tr = document.createElementNS(ns, "mtr");
+      const td = document.createElementNS(ns, "mtd");
+      const mrow = document.createElementNS(ns, "mrow");
+      part.forEach((kid) => mrow.appendChild(kid.cloneNode(true)));
+      td.appendChild(i ? infix(mrow) : mrow);
+      tr.appendChild(td);
+      table.appendChild(tr);
+    });
+    math.replaceChildren(table);
+    return true;
+  }
+
+  function fit(el) {
+    const box = boxOf(el);
+    if (!box) return;
+    const math = restore(box);
+    if (!math) return;
+    markPrimes(math);
+    box.style.removeProperty("--math-scale");
+    const room = box.clientWidth;
+    let natural = math.scrollWidth;
+    if (room && natural > room) {
+      let scale = 1;
+      // MathML does not scale exactly with the font size: correct twice at most
+      for (let i = 0; i < 3 && natural > room && scale > MIN_SCALE; i++) {
+        scale = Math.max(MIN_SCALE, scale * room / natural);
+        box.style.setProperty("--math-scale", scale.toFixed(4));
+        natural = math.scrollWidth;
+      }
+      if (natural > room) {
+        // still too wide: full size again, in lines
+        box.style.removeProperty("--math-scale");
+        breakInto(box, math, room);
+      }
+    }
+    edges(box);
+  }
+
+  // a long formula within a line of text is cut into formulas side by side, before its top-level
+  // relations and + or −, so that the line may wrap between them (once per formula)
+  const INLINE_SPLIT = 160; // px: shorter formulas stay whole
+  function splitInline(math) {
+    if (math.dataset.split || math.closest(".math-block, .eq-row, .math-pieces")) return;
+    math.dataset.split = "1";
+    markPrimes(math);
+    if (math.getBoundingClientRect().width <= INLINE_SPLIT) return;
+    let row = math;
+    while (row.children.length === 1 && ["mrow", "semantics"].includes(row.firstElementChild.localName)) row = row.firstElementChild;
+    const { kids, points } = breakPoints(row, false);
+    const cuts = points[0].concat(points[1]).sort((a, b) => a - b);
+    if (!cuts.length) return;
+    const holder = document.createElement("span");
+    holder.className = "math-pieces";
+    const starts = [0].concat(cuts), ends = cuts.concat([kids.length]);
+    starts.forEach((from, i) => {
+      if (i) holder.appendChild(document.createElement("wbr"));
+      const copy = math.cloneNode(false);
+      copy.dataset.split = "1";
+      const mrow = document.createElementNS(math.namespaceURI, "mrow");
+      kids.slice(from, ends[i]).forEach((kid) => mrow.appendChild(kid.cloneNode(true)));
+      copy.appendChild(i ? infix(mrow) : mrow);
+      holder.appendChild(copy);
+    });
+    math.replaceWith(holder);
+  }
+
+  // fades on the sides where part of the formula is scrolled out of sight
+  function edges(block) {
+    const hidden = block.scrollWidth - block.clientWidth;
+    block.classList.toggle("math-more-right", hidden > 1 && block.scrollLeft < hidden - 1);
+    block.classList.toggle("math-more-left", hidden > 1 && block.scrollLeft > 1);
+  }
+
+  let pending = false;
+  let observer = null;
+  function fitAll() {
+    if (pending) return;
+    pending = true;
+    requestAnimationFrame(() => {
+      pending = false;
+      document.querySelectorAll(".math-block, .eq-row").forEach(fit);
+      document.querySelectorAll(".phonglab-text math:not([display=block])").forEach(splitInline);
+      if (observer) observer.takeRecords(); // our own lines are not news
+    });
+  }
+
+  const holdsFormula = (node) =>
+    node.nodeType === 1 && (node.matches(".math-block, .eq-row, math") || node.querySelector(".math-block, .eq-row, math"));
+  observer = new MutationObserver((records) => {
+    if (records.some((r) => Array.from(r.addedNodes).some(holdsFormula))) fitAll();
+  });
+  observer.observe(document.documentElement, { childList: true, subtree: true });
+  // the columns change width with the window (and the grid)
+  new ResizeObserver(fitAll).observe(document.documentElement);
+  window.addEventListener("resize", fitAll);
+  document.addEventListener("scroll", (event) => {
+    const t = event.target;
+    if (t.classList && (t.classList.contains("math-block") || t.classList.contains("math-fit"))) edges(t);
+  }, true);
+  window.phonglabFitMath = fitAll;
+})();
