@@ -36,8 +36,9 @@ FIT_SCALE = 0.9
 
 #: boxes that hold text, by what they are (a CSS selector each)
 TEXT_BOXES = {
-    "readout row": ".phonglab-term, .phonglab-dot, .phonglab-readout-head, .phonglab-term-wrong",
-    "substituted equation": ".phonglab-equation, .eq-row, .eq-row .math-fit",
+    "readout row": ".phonglab-term, .phonglab-dot, .phonglab-dot-term, .phonglab-light-name, .phonglab-readout-head, "
+                   ".phonglab-term-wrong",
+    "substituted equation": ".phonglab-equation, .phonglab-eq-head, .eq-row, .eq-row .math-fit",
     "lesson list title": ".phonglab-lesson-item .v-list-item-title",
     "notice": ".phonglab-notice, .phonglab-notice .v-alert__content",
     "formula": ".math-block, .math-fit",
