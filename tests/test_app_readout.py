@@ -295,3 +295,16 @@ def test_two_lights_light_1_behind_under_the_unclamped_diffuse(two_lights):
     assert "correct" in terms(out)["diffuse"], out["terms"]
     right = probe_readout(two_lights, ORIGIN, n, v1, 1)
     assert "n·l ≤ 0: light 1 is behind the surface here, so its diffuse and specular are 0." in right["notes"], right["notes"]
+
+
+def test_two_lights_blinn_phong_puts_light_1s_specular_beside_n_dot_h(lit_by_both):
+    scene, normal, _ = lit_by_both
+    scene = scene.replace("model", "blinn-phong")
+    v1 = pl.vectors(ORIGIN, normal, eye=scene.camera.eye, light=scene.lights[1])
+    out = probe_readout(scene, ORIGIN, normal, v1, 1)
+    dots = {d["name"]: d for d in out["dots"]}
+    assert "term" not in dots["r·v"] and dots["n·h"]["term"]["name"] == "specular", dots
+    alone = pl.shade(ORIGIN[None], normal[None], material=scene.material, lights=(scene.lights[1],),
+                     eye=scene.camera.eye, model="blinn-phong", two_sided=scene.two_sided)
+    assert values(dots["n·h"]["term"]["value"]) == pytest.approx(alone.specular[0], abs=5e-4), (dots, alone.specular[0])
+    assert max(alone.specular[0]) > 0.1, alone.specular[0]  # n = h: light 1's Blinn highlight
