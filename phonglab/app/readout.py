@@ -101,7 +101,8 @@ def _parts(scene, p, n, light_index, part, total, mistake) -> list[dict]:
     if _differs(part.color[0] + sum(rgb for _, rgb in adds), total.color[0]):
         adds = [("the other lights add" if len(others) > 1 else f"light {others[0]} adds",
                  total.color[0] - part.color[0])]
-    parts = [(f"ambient + light {light_index}", part.color[0]), *adds, ("total", total.color[0])]
+    glow = "emission + " if any(part.emission[0]) else ""
+    parts = [(f"{glow}ambient + light {light_index}", part.color[0]), *adds, ("total", total.color[0])]
     return [{"name": name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb), "rgb": rgb} for name, rgb in parts]
 
 
@@ -236,7 +237,8 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
     else:
         # the parts that add up to the total: the ambient with this light, each other light, the sum
         first, *others_, whole = out["parts"]
-        rows.append((out["light_name"], rf"k_a I_a + \text{{{out['light_name']}}} = {_rgb_tex(part.color[0], 3)}"))
+        glow = "k_e + " if any(part.emission[0]) else ""
+        rows.append((out["light_name"], rf"{glow}k_a I_a + \text{{{out['light_name']}}} = {_rgb_tex(part.color[0], 3)}"))
         rows += [(o["name"].removesuffix(" adds") if o["name"].startswith("light") else "others",
                   rf"\text{{{o['name']}}}\ {_rgb_tex(o['rgb'], 3)}") for o in others_]
         rows.append(("total", "I = " + " + ".join(_rgb_tex(x["rgb"], 3) for x in [first, *others_])
