@@ -157,3 +157,154 @@ def test_the_readout_says_its_numbers_are_exact_where_the_picture_interpolates(s
     ambient = scene.replace("lights", [scene_to_dict(scene)["lights"][0]])
     out = probe_readout(ambient, UNLIT, UP, None, None)
     assert (len([n for n in out["notes"] if "evaluated exactly" in n]) == 1) == (words is not None), out["notes"]
+
+
+# --- two directed lights: whose numbers the readout shows, and how they add up to the total ---
+
+ORIGIN = np.zeros(3)
+
+
+@pytest.fixture(scope="module")
+def two_lights():
+    """Lesson 5: an ambient light and two point lights (lights[1] warm white, lights[2] blue)."""
+    scene = load_lesson(LESSONS / "05-whole-model.md").scene
+    assert [type(x).__name__ for x in scene.lights] == ["AmbientLight", "PointLight", "PointLight"], scene.lights
+    return scene
+
+
+def unit(v):
+    v = np.asarray(v, dtype=np.float64)
+    return v / np.linalg.norm(v)
+
+
+def halfway(scene, light_index):
+    """The normal at the origin that puts light ``light_index``'s highlight there (n = h, so r·v = 1)."""
+    return unit(unit(scene.lights[light_index].position) + unit(scene.camera.eye))
+
+
+def core_terms(scene, normal, lights, mistake=None):
+    """The core's shading at the origin with only ``lights`` (the mistaken code's with ``mistake``)."""
+    return shade(scene.replace("lights", [scene_to_dict(scene)["lights"][i] for i in lights]),
+                 ORIGIN[None], normal[None], mistake=mistake)
+
+
+def parts(out) -> list[tuple[str, list[float]]]:
+    return [(x["name"], values(x["value"])) for x in out["parts"]]
+
+
+def eq_rows(out) -> list[tuple[str, str]]:
+    """The equation's rows as (label, the row's numbers as text)."""
+    import re
+
+    rows = re.findall(r'<span class="eq-label">([^<]+)</span>(<math.*?</math>)', out["equation"])
+    return [(label, " ".join(re.findall(r"<mn>([^<]+)</mn>", math))) for label, math in rows]
+
+
+@pytest.fixture(scope="module")
+def lit_by_both(two_lights):
+    """Light 1's highlight at the origin, where light 2 lights the surface too (n·l > 0 for both)."""
+    normal = halfway(two_lights, 1)
+    v1 = pl.vectors(ORIGIN, normal, eye=two_lights.camera.eye, light=two_lights.lights[1])
+    v2 = pl.vectors(ORIGIN, normal, eye=two_lights.camera.eye, light=two_lights.lights[2])
+    assert v1.nl > 0.3 and v2.nl > 0.1 and v1.rv > 0.999, (normal, v1, v2)
+    return two_lights, normal, v1
+
+
+def test_two_lights_the_dots_carry_light_1s_own_terms_from_the_core(lit_by_both):
+    scene, normal, v1 = lit_by_both
+    out = probe_readout(scene, ORIGIN, normal, v1, 1)
+    assert out["light_name"] == "light 1", out["light_name"]
+    dots = {d["name"]: d for d in out["dots"]}
+    assert float(dots["n·l"]["value"]) == pytest.approx(v1.nl, abs=5e-4) and float(dots["r·v"]["value"]) == pytest.approx(v1.rv, abs=5e-4)
+    assert "term" not in dots["n·h"], dots  # Phong: n·h makes no term
+    diffuse, specular = values(dots["n·l"]["term"]["value"]), values(dots["r·v"]["term"]["value"])
+    assert (dots["n·l"]["term"]["name"], dots["r·v"]["term"]["name"]) == ("diffuse", "specular"), dots
+    # the core with light 1 alone (phonglab.shade) ...
+    light = scene.lights[1]
+    alone = pl.shade(ORIGIN[None], normal[None], material=scene.material, lights=(light,), eye=scene.camera.eye,
+                     model=scene.model, two_sided=scene.two_sided)
+    assert diffuse == pytest.approx(alone.diffuse[0], abs=5e-4), (dots["n·l"], alone.diffuse[0])
+    assert specular == pytest.approx(alone.specular[0], abs=5e-4), (dots["r·v"], alone.specular[0])
+    # ... which is the lesson's equation with light 1's own vectors
+    f = v1.attenuation * v1.spot
+    m = scene.material
+    assert diffuse == pytest.approx(f * np.multiply(m.kd, light.diffuse_rgb) * max(0.0, v1.nl), abs=5e-4)
+    assert specular == pytest.approx(f * np.multiply(m.ks, light.specular_rgb) * max(0.0, v1.rv) ** m.shininess,
+                                     abs=5e-4)
+    # and it is not the sum over both lights the terms beside it show: light 2 lights this point too
+    t = terms(out)
+    assert max(np.subtract(values(t["diffuse"]["value"]), diffuse)) > 0.05, (t["diffuse"], diffuse)
+
+
+def test_two_lights_the_parts_add_up_to_the_total(lit_by_both):
+    scene, normal, v1 = lit_by_both
+    out = probe_readout(scene, ORIGIN, normal, v1, 1)
+    (first, with_1), (second, adds_2), (last, total) = parts(out)
+    assert (first, second, last) == ("ambient + light 1", "light 2 adds", "total"), out["parts"]
+    assert with_1 == pytest.approx(core_terms(scene, normal, [0, 1]).color[0], abs=5e-4)
+    assert adds_2 == pytest.approx(core_terms(scene, normal, [0, 2]).color[0] - core_terms(scene, normal, [0]).color[0], abs=5e-4)
+    assert total == values(terms(out)["total"]["value"]), (out["parts"], out["terms"])
+    assert np.add(with_1, adds_2) == pytest.approx(total, abs=2e-3), out["parts"]
+    # the worked equation is light 1's and ends with the same parts and the total
+    rows = eq_rows(out)
+    assert [label for label, _ in rows] == ["model", "ambient", "diffuse", "specular", "light 1", "light 2", "total"], rows
+    assert "light 1" in out["equation"].split("<div class=\"eq-row\"")[0], out["equation"][:300]
+    assert rows[-1][1].endswith(" ".join(f"{c:.3f}" for c in total)), rows[-1]
+    assert rows[-3][1].endswith(" ".join(f"{c:.3f}" for c in with_1)), rows[-3]
+    assert not any("other light" in n for n in out["notes"]), out["notes"]
+
+
+def test_one_directed_light_keeps_the_plain_readout(sheet):
+    out, _ = readout(sheet, UNLIT, UP)
+    assert out["light_name"] is None and out["parts"] == [], out
+    assert all("term" not in d for d in out["dots"]), out["dots"]
+    assert [label for label, _ in eq_rows(out)] == ["model", "ambient", "diffuse", "specular", "sum"]
+
+
+@pytest.mark.parametrize("mistake", sorted(MISTAKES))
+@pytest.mark.parametrize("attenuated", [False, True])
+def test_two_lights_with_a_mistake_the_parts_are_the_mistaken_codes_and_add_up(lit_by_both, mistake, attenuated):
+    scene, normal, _ = lit_by_both
+    if attenuated:  # a falloff on light 1, so that f differs from 1 (the attenuated-ambient mistake bites)
+        scene = scene.replace("lights[1].attenuation", [1.0, 0.3, 0.0])
+    v1 = pl.vectors(ORIGIN, normal, eye=scene.camera.eye, light=scene.lights[1])
+    out = probe_readout(scene, ORIGIN, normal, v1, 1, mistake=mistake)
+    got = parts(out)
+    total = got[-1][1]
+    picture = shade(scene, ORIGIN[None], normal[None], mistake=mistake).color[0]
+    assert total == pytest.approx(picture, abs=5e-4), (mistake, out["parts"])
+    assert np.sum([rgb for _, rgb in got[:-1]], axis=0) == pytest.approx(total, abs=2e-3), (mistake, out["parts"])
+    # light 1's own terms beside its dots are the mistaken code's for light 1 (the ones its equation works out)
+    own = core_terms(scene, normal, [0, 1], mistake)
+    dots = {d["name"]: d for d in out["dots"]}
+    assert values(dots["n·l"]["term"]["value"]) == pytest.approx(own.diffuse[0], abs=5e-4), (mistake, dots)
+    assert values(dots["r·v"]["term"]["value"]) == pytest.approx(own.specular[0], abs=5e-4), (mistake, dots)
+    assert got[0][1] == pytest.approx(own.color[0], abs=5e-4), (mistake, out["parts"])
+
+
+def test_two_lights_light_1_behind_under_the_unclamped_diffuse(two_lights):
+    # light 2 in front, light 1 behind: the note names light 1; the mistaken diffuse beside n·l is negative
+    n = unit(unit(two_lights.lights[2].position) - 0.9 * unit(two_lights.lights[1].position))
+    v1 = pl.vectors(ORIGIN, n, eye=two_lights.camera.eye, light=two_lights.lights[1])
+    v2 = pl.vectors(ORIGIN, n, eye=two_lights.camera.eye, light=two_lights.lights[2])
+    assert v1.nl < 0 < v2.nl, (n, v1, v2)
+    out = probe_readout(two_lights, ORIGIN, n, v1, 1, mistake="no-clamp-diffuse")
+    dots = {d["name"]: d for d in out["dots"]}
+    assert min(values(dots["n·l"]["term"]["value"])) < 0, dots["n·l"]
+    assert any(x.startswith("n·l ≤ 0: light 1 is behind") and "mistaken code gives diffuse" in x for x in out["notes"]), out["notes"]
+    assert "correct" in terms(out)["diffuse"], out["terms"]
+    right = probe_readout(two_lights, ORIGIN, n, v1, 1)
+    assert "n·l ≤ 0: light 1 is behind the surface here, so its diffuse and specular are 0." in right["notes"], right["notes"]
+
+
+def test_two_lights_blinn_phong_puts_light_1s_specular_beside_n_dot_h(lit_by_both):
+    scene, normal, _ = lit_by_both
+    scene = scene.replace("model", "blinn-phong")
+    v1 = pl.vectors(ORIGIN, normal, eye=scene.camera.eye, light=scene.lights[1])
+    out = probe_readout(scene, ORIGIN, normal, v1, 1)
+    dots = {d["name"]: d for d in out["dots"]}
+    assert "term" not in dots["r·v"] and dots["n·h"]["term"]["name"] == "specular", dots
+    alone = pl.shade(ORIGIN[None], normal[None], material=scene.material, lights=(scene.lights[1],),
+                     eye=scene.camera.eye, model="blinn-phong", two_sided=scene.two_sided)
+    assert values(dots["n·h"]["term"]["value"]) == pytest.approx(alone.specular[0], abs=5e-4), (dots, alone.specular[0])
+    assert max(alone.specular[0]) > 0.1, alone.specular[0]  # n = h: light 1's Blinn highlight

@@ -338,11 +338,20 @@ class _Page:
                 html.Span("At the probe", classes="phonglab-section")
                 html.Span("{{ readout.point }}", classes="phonglab-mono phonglab-point")
             with html.Div(classes="phonglab-dots"):
+                # with several directed lights: whose dots these are, and that light's own terms beside them
+                html.Div("{{ readout.light_name }} (its vectors are drawn)", v_if="readout.light_name",
+                         classes="phonglab-light-name")
                 with html.Div(v_for="d in readout.dots", key="d.name", classes="phonglab-dot"):
                     html.Span(v_html=("d.tex",))
                     html.Span("=", classes="phonglab-eq")
                     html.Span("{{ d.value }}", classes="phonglab-mono phonglab-dot-value",
                               data_name=("d.name",), __properties=[("data_name", "data-name")])
+                    with html.Span(v_if="d.term", classes="phonglab-dot-term"):
+                        html.Span("", classes="phonglab-swatch", style=("{background: d.term.hex}",))
+                        html.Span("{{ readout.light_name }}'s {{ d.term.name }}", classes="phonglab-term-name")
+                        html.Span("{{ d.term.value }}", classes="phonglab-mono", data_light_term=("d.term.name",),
+                                  __properties=[("data_light_term", "data-light-term")])
+            html.Div("All lights together", v_if="readout.light_name", classes="phonglab-light-name")
             with html.Div(classes="phonglab-terms"):
                 with html.Div(v_for="t in readout.terms", key="t.name", classes="phonglab-term",
                               title="RGB, before clipping to the screen's 0..1"):

@@ -13,6 +13,12 @@ correct value and the wrong line of code beside the right one.
 The numbers are linear light, as the model computes them; the colour
 swatches are encoded for the display as the picture is (the scene's
 ``display`` and ``exposure``, :func:`phonglab.core.display.display_bytes`).
+
+With more than one directed light, the dot products and the worked equation
+belong to one light, the one whose vectors are drawn: the readout names it
+("light 1"), shows that light's own diffuse and specular beside its n·l and
+r·v (or n·h), and ends the equation with the parts that add up to the total
+(the ambient with light 1, what each other light adds, the total).
 """
 
 from __future__ import annotations
@@ -77,6 +83,29 @@ def _differs(a, b) -> bool:
     return bool(np.any(np.abs(np.asarray(a, dtype=np.float64) - np.asarray(b, dtype=np.float64)) > 5e-4))
 
 
+def _parts(scene, p, n, light_index, part, total, mistake) -> list[dict]:
+    """The shown light with the ambient, what each other directed light adds, and the total.
+
+    Each other light adds what the core computes with it and the ambient lights,
+    less the ambient lights alone. Where a mistake makes the lights' sum differ
+    from the total (the attenuated ambient, say), the other lights are given as
+    one part, the total less the shown light's, so that the parts always add up.
+    """
+    ambients = tuple(light for light in scene.lights if isinstance(light, core.AmbientLight))
+    others = [i for i, light in enumerate(scene.lights)
+              if i != light_index and not isinstance(light, core.AmbientLight)]
+    alone = shade(dataclasses.replace(scene, lights=ambients), p, n, mistake=mistake).color[0]
+    adds = [(f"light {i} adds",
+             shade(dataclasses.replace(scene, lights=ambients + (scene.lights[i],)), p, n, mistake=mistake).color[0]
+             - alone) for i in others]
+    if _differs(part.color[0] + sum(rgb for _, rgb in adds), total.color[0]):
+        adds = [("the other lights add" if len(others) > 1 else f"light {others[0]} adds",
+                 total.color[0] - part.color[0])]
+    glow = "emission + " if any(part.emission[0]) else ""
+    parts = [(f"{glow}ambient + light {light_index}", part.color[0]), *adds, ("total", total.color[0])]
+    return [{"name": name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb), "rgb": rgb} for name, rgb in parts]
+
+
 def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None, mistake=None) -> dict:
     """The readout beside the view, as plain data.
 
@@ -104,7 +133,13 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         mistake changes the term), ``equation`` (MathML), ``notes`` (list of
         str; in flat and Gouraud mode the last one says the numbers are exact
         at the probe while the picture is not, :data:`INTERPOLATION_NOTES`), ``vectors`` (letter -> "(x, y, z)"), ``display_note``, and
-        ``mistake`` (None or {name, title, wrong, right}).
+        ``mistake`` (None or {name, title, wrong, right}), ``light_name``
+        (``"light 1"`` when the scene has more than one directed light, else
+        None) and ``parts`` (with more than one directed light: {name, value,
+        hex} for the ambient with the shown light, what each other light adds,
+        and the total; else empty). With more than one directed light, the dot
+        n·l carries the shown light's diffuse and r·v (n·h for Blinn-Phong)
+        its specular as ``term`` ({name, value, hex}).
     """
     p = np.asarray(point, dtype=np.float64).reshape(1, 3)
     n = np.asarray(normal, dtype=np.float64).reshape(1, 3)
@@ -121,6 +156,8 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         "notes": [],
         "vectors": {},
         "light": light_index,
+        "light_name": None,
+        "parts": [],
         "display_note": DISPLAY_NOTES[scene.display],
         "mistake": None,
     }
@@ -161,6 +198,17 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
     # the shown light's own terms, from the core (the mistaken code with a mistake on), with the ambient lights
     one = dataclasses.replace(scene, lights=tuple(ambients) + (light,))
     part = shade(one, p, n, mistake=mistake)
+    several = len(scene.lights) - len(ambients) > 1
+    if several:
+        # which light the dots and the equation belong to, and its own terms beside its dots
+        out["light_name"] = f"light {light_index}"
+        out["parts"] = _parts(scene, p, n, light_index, part, total, mistake)
+        specular_dot = "n·h" if blinn else "r·v"
+        for dot in out["dots"]:
+            term = {"n·l": "diffuse", specular_dot: "specular"}.get(dot["name"])
+            if term is not None:
+                rgb = getattr(part, term)[0]
+                dot["term"] = {"name": term, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)}
     f = vectors.attenuation * vectors.spot
     ia = [sum(a.ambient_rgb[i] for a in ambients) for i in range(3)]
     cosine, cos_tex = (vectors.nh, r"n\cdot h") if blinn else (vectors.rv, r"r\cdot v")
@@ -184,11 +232,31 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
     ]
     if any(part.emission[0]):
         rows.append(("emission", rf"k_e = {_rgb_tex(part.emission[0], 3)}"))
-    rows.append(("sum", rf"I = {_rgb_tex(part.color[0], 3)}"))
+    if not several:
+        rows.append(("sum", rf"I = {_rgb_tex(part.color[0], 3)}"))
+    else:
+        # the parts that add up to the total: the ambient with this light, each other light, the sum
+        first, *others_, whole = out["parts"]
+        glow = "k_e + " if any(part.emission[0]) else ""
+        rows.append((out["light_name"], rf"{glow}k_a I_a + \text{{{out['light_name']}}} = {_rgb_tex(part.color[0], 3)}"))
+        rows += [(o["name"].removesuffix(" adds") if o["name"].startswith("light") else "others",
+                  rf"\text{{{o['name']}}}\ {_rgb_tex(o['rgb'], 3)}") for o in others_]
+        rows.append(("total", "I = " + " + ".join(_rgb_tex(x["rgb"], 3) for x in [first, *others_])
+                     + rf" = {_rgb_tex(whole['rgb'], 3)}"))
     out["equation"] = "".join(
         f'<div class="eq-row"><span class="eq-label">{label}</span>{mathml(tex)}</div>' for label, tex in rows
     )
-    if vectors.nl <= 0 and mistake is None:
+    if several:
+        out["equation"] = (f'<div class="phonglab-eq-head">Worked for {out["light_name"]} (its vectors are drawn) '
+                           "with the ambient light; the last rows add the other lights.</div>" + out["equation"])
+    for x in out["parts"]:
+        del x["rgb"]
+    if vectors.nl <= 0 and several:
+        out["notes"].append(f"n·l ≤ 0: {out['light_name']} is behind the surface here, so "
+                            + ("its diffuse and specular are 0." if mistake is None else
+                               f"correct code gives its diffuse and specular 0; the mistaken code gives diffuse "
+                               f"{_rgb_text(part.diffuse[0])} and specular {_rgb_text(part.specular[0])}."))
+    elif vectors.nl <= 0 and mistake is None:
         out["notes"].append("n·l ≤ 0: the light is behind the surface here, so diffuse and specular are 0.")
     elif vectors.nl <= 0:
         out["notes"].append("n·l ≤ 0: the light is behind the surface here, so correct code gives diffuse and "
@@ -206,16 +274,9 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
             parts.append(f"distance {vectors.distance:.2f}, attenuation {vectors.attenuation:.3f}")
         if isinstance(light, core.SpotLight):
             parts.append(f"spot factor {vectors.spot:.3f}")
-        out["notes"].append("f = " + ", ".join(parts) + ".")
+        out["notes"].append((f"For {out['light_name']}, f = " if several else "f = ") + ", ".join(parts) + ".")
     if vectors.flipped:
         out["notes"].append("Two-sided lighting flipped the normal: it faced away from the eye.")
-    others = len(scene.lights) - len(ambients) - 1
-    if others > 0:
-        rest = total.color[0] - part.color[0]
-        out["notes"].append(
-            (f"{others} other lights add " if others > 1 else "1 other light adds ")
-            + _rgb_text(rest) + ", for a total of " + _rgb_text(total.color[0]) + "."
-        )
     if scene.interpolation in INTERPOLATION_NOTES:
         out["notes"].append(INTERPOLATION_NOTES[scene.interpolation])
     return out

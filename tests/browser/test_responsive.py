@@ -7,7 +7,8 @@ each size:
 * the page never scrolls sideways;
 * the 3D view is wholly inside the window's width, at a size one can work with;
 * no box that holds text cuts its text off (a box may scroll its content
-  sideways only when it shows that it does: a scrollbar or a fade);
+  sideways only when it shows that it does: a scrollbar or a fade; a formula
+  only when the page's fitting could neither scale nor break it to fit);
 * every formula is typeset at 90 % of the lesson text's size or more;
 * the colour legend of the view does not sit under the view's buttons.
 
@@ -30,11 +31,14 @@ SLUGS = sorted(p.stem for p in LESSONS.glob("*.md") if p.stem[:2].isdigit())
 SIZES = [(1280, 800), (1366, 768), (800, 900), (1920, 1080)]
 #: formulas are at least this fraction of the lesson text's font size
 MIN_FORMULA = 0.9
+#: the smallest scale phonglab.js's fitting gives a formula before it breaks it into lines (its MIN_SCALE)
+FIT_SCALE = 0.9
 
 #: boxes that hold text, by what they are (a CSS selector each)
 TEXT_BOXES = {
-    "readout row": ".phonglab-term, .phonglab-dot, .phonglab-readout-head, .phonglab-term-wrong",
-    "substituted equation": ".phonglab-equation, .eq-row, .eq-row .math-fit",
+    "readout row": ".phonglab-term, .phonglab-dot, .phonglab-dot-term, .phonglab-light-name, .phonglab-readout-head, "
+                   ".phonglab-term-wrong",
+    "substituted equation": ".phonglab-equation, .phonglab-eq-head, .eq-row, .eq-row .math-fit",
     "lesson list title": ".phonglab-lesson-item .v-list-item-title",
     "notice": ".phonglab-notice, .phonglab-notice .v-alert__content",
     "formula": ".math-block, .math-fit",
@@ -88,6 +92,16 @@ MEASURE = """(boxes) => {
         const fade = e.classList.contains('math-more-right') || e.classList.contains('math-more-left');
         if (!(scrolls && (bar || fade)))
           problems.push(`${what} cuts its text: ${name(e)} ${start(e)}: scrollWidth ${e.scrollWidth} > clientWidth ${e.clientWidth} (overflow-x ${s.overflowX})`);
+        else if (e.matches('.math-block, .math-fit') && !e.querySelector('mtable.math-lines')) {
+          // a formula may scroll only when the fitting (phonglab.js) could not fit it: a formula left
+          // whole that would fit at the fitting's smallest scale was measured wrong, and its end is cut
+          const scale = e.style.getPropertyValue('--math-scale');
+          e.style.setProperty('--math-scale', String(%FIT%));
+          const small = e.scrollWidth;
+          if (scale) e.style.setProperty('--math-scale', scale); else e.style.removeProperty('--math-scale');
+          if (small <= e.clientWidth + 1)
+            problems.push(`${what} cuts its text although it fits at ${%FIT%} of its size: ${name(e)} ${start(e)}: scrollWidth ${e.scrollWidth} > clientWidth ${e.clientWidth} at scale ${scale || 1}, ${small} at ${%FIT%}`);
+        }
       }
       if (!inDrawer(e)) {
         const r = e.getBoundingClientRect();
@@ -113,7 +127,7 @@ MEASURE = """(boxes) => {
         problems.push(`legend chip ${start(chip)} sits under the view's button ${start(b)}`);
   }
   return problems;
-}""".replace("%MIN%", str(MIN_FORMULA))
+}""".replace("%MIN%", str(MIN_FORMULA)).replace("%FIT%", str(FIT_SCALE))
 
 #: three animation frames: the layout, the formulas' fitting (phonglab.js) and their re-layout are done
 FRAMES = "() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => requestAnimationFrame(done))))"

@@ -172,7 +172,9 @@
     if (!math) return;
     markPrimes(math);
     box.style.removeProperty("--math-scale");
-    const room = box.clientWidth;
+    // the room inside the box's padding (a readout row indents its formula with padding)
+    const pad = getComputedStyle(box);
+    const room = box.clientWidth - (parseFloat(pad.paddingLeft) || 0) - (parseFloat(pad.paddingRight) || 0);
     let natural = math.scrollWidth;
     if (room && natural > room) {
       let scale = 1;
