@@ -222,6 +222,10 @@ class _Page:
                                label="Show the mistake in the picture", density="compact", hide_details=True,
                                classes="phonglab-mistake-switch")
                     html.P("{{ mistake_note }}", v_if="mistake_note", classes="phonglab-note phonglab-mistake-note")
+                    # where the lesson has the interpolation control: one click to where the mistake shows
+                    v3.VBtn("Show it with per-pixel shading", v_if="mistake_note && interpolation != null",
+                            click="interpolation = 'pixel'; view__mistake = true", size="small", variant="tonal",
+                            color="error", classes="phonglab-mistake-pixel")
                 with html.Div(v_if="question_html", classes="phonglab-question"):
                     html.H3("Check yourself")
                     if self.handlers.check_answer is not None:  # answer first, then the explanation

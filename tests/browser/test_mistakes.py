@@ -45,8 +45,12 @@ def test_per_pixel_mistake_changes_the_per_pixel_picture_and_switching_off_resto
     app_page.set_state("interpolation", "'gouraud'")
     note = wait_for(lambda: page.locator(NOTE).all_inner_texts(), "the note that the mistake shows only per pixel")
     assert "per-pixel" in note[0] and "Gouraud" in note[0], note
-    app_page.set_state("interpolation", "'pixel'")
+    # one click under the note goes to where the mistake shows, with it on
+    page.locator(".phonglab-mistake-pixel").click()
+    wait_for(lambda: app_page.state("interpolation") == "pixel" and app_page.state("view__mistake") is True,
+             "per-pixel shading with the mistake on, after the note's button")
     wait_for(lambda: not page.locator(NOTE).count(), "the note to go away in pixel mode")
+    wait_for(lambda: pixel_src(app_page) == wrong, "the per-pixel picture with the mistake")
 
 
 def test_gouraud_mistake_changes_the_view_and_switching_off_restores_it(app_page):
