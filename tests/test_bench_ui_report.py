@@ -18,3 +18,24 @@ def test_the_turn_report_gives_median_and_p90_ratios(capsys):
     assert median == round(95 / 145, 2), out
     assert p90 == round(ui.percentile(turn["latency_ms"], 90) / ui.percentile(baseline, 90), 2), out
     assert "server per re-shade median 14.0 ms" in out and "PASS" in out, out
+
+
+def test_the_server_records_wall_and_cpu_time_and_the_report_shows_both(tmp_path, monkeypatch, capsys):
+    # on 2 cores the browser's software drawing takes CPU from the server: the report tells the two apart
+    import time
+
+    from phonglab.app import timing
+
+    path = tmp_path / "timing.txt"
+    monkeypatch.setenv(timing.ENV, str(path))
+    with timing.timed("view"):
+        time.sleep(0.05)  # waiting: wall time only
+        sum(i * i for i in range(200_000))  # working: wall and CPU time
+    records = dict(timing.read(path))
+    assert set(records) == {"view", "view" + timing.CPU_SUFFIX}, records
+    wall, cpu = records["view"], records["view" + timing.CPU_SUFFIX]
+    assert wall >= 50 and 0 < cpu < wall - 40, records
+    turn = {"latency_ms": [100.0], "server_ms": [40.0], "server_cpu_ms": [22.0], "step_px": 24, "missed": 0}
+    ui._report_turn(turn, [200.0])
+    out = capsys.readouterr().out
+    assert "(of which the server's own CPU time: median 22.0 ms)" in out, out

@@ -28,7 +28,6 @@ from __future__ import annotations
 import asyncio
 import functools
 import logging
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -46,7 +45,7 @@ from phonglab.app import download
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
 from phonglab.app.pixel_picture import PixelPicture
-from phonglab.app.timing import record
+from phonglab.app.timing import Stopwatch, record_lap
 from phonglab.render import SceneView, pixel_job
 from phonglab.render.translucency import translucent
 from phonglab.scene import SceneError, load_lesson, load_scene, plan
@@ -111,7 +110,7 @@ class LessonApp(TrameApp):
         self._notice_serial = 0
         self._busy = False
         self._panels_handle = None
-        self._view_ms = 0.0
+        self._view_ms = (0.0, 0.0)  # wall and CPU ms of a control's update before its deferred panels
         self._camera_moved = False
         self._turn_unsynced = False  # a turn re-shaded the view and the drag's end has not synchronised it yet
         self._plan = (None, None)  # (scene, plan(scene)): planned once for the view's shading and the panels
@@ -291,7 +290,7 @@ class LessonApp(TrameApp):
     def _deferred_panels(self) -> None:
         """The refresh :meth:`_show_scene` put off; records the update's server time."""
         self._panels_handle = None
-        start = time.perf_counter()
+        clock = Stopwatch()
         try:
             if self.scene is not None:
                 self._refresh_panels()
@@ -301,8 +300,9 @@ class LessonApp(TrameApp):
             self.notify("error", f"Could not refresh the panels: {owned.reason(exc)}")
             self.state.flush()
         finally:
-            spent, self._view_ms = self._view_ms, 0.0
-            record("view", spent + (time.perf_counter() - start) * 1000.0)
+            (wall, cpu), (spent_wall, spent_cpu) = clock.split(), self._view_ms
+            self._view_ms = (0.0, 0.0)
+            record_lap("view", spent_wall + wall, spent_cpu + cpu)
 
     def _paint_mistake(self) -> None:
         """Show the lesson's common mistake in the view when the switch is on, else the correct shading.
@@ -427,7 +427,7 @@ class LessonApp(TrameApp):
             current = control.read(self.scene, self.options)
             if control.same(value, current):
                 return
-            start = time.perf_counter()
+            clock = Stopwatch()
             self._busy = True
             try:
                 scene, options = control.apply(self.scene, value, self.options)
@@ -441,7 +441,7 @@ class LessonApp(TrameApp):
             if isinstance(self.state.notice, dict) and self.state.notice.get("kind") == "error":
                 self.state.notice = None
             self.state.flush()
-            self._view_ms += (time.perf_counter() - start) * 1000.0
+            self._view_ms = tuple(a + b for a, b in zip(self._view_ms, clock.split()))
         except Exception as exc:  # the server stays up whatever arrives
             log.exception("control %s", key)
             self.notify("error", f"Could not apply {key}: {owned.reason(exc)}")
@@ -501,7 +501,7 @@ class LessonApp(TrameApp):
         """
         if self.scene is None or self.view is None:
             return
-        start = time.perf_counter()
+        clock = Stopwatch()
         try:
             scene = eye.scene_camera(self.scene, camera)
             if scene is not self.scene and scene.probe is None:
@@ -517,7 +517,7 @@ class LessonApp(TrameApp):
                 self._camera_moved = self._turn_unsynced = True
                 if scene.interpolation != "pixel":
                     self._push_colours(change=True)
-                record("turn", (time.perf_counter() - start) * 1000.0)  # a re-shade (not a camera already shown)
+                record_lap("turn", *clock.split())  # a re-shade (not a camera already shown)
         except Exception as exc:
             log.exception("camera")
             self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")

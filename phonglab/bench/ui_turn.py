@@ -87,10 +87,12 @@ class Turn:
         self.missed = 0
         self._records_before = self.records()
 
-    def server_ms(self) -> list[float]:
+    def server_ms(self, cpu: bool = False) -> list[float]:
+        """The server's wall-clock time per re-shade since :meth:`start_measuring` (``cpu``: its CPU time)."""
         from phonglab.app import timing
 
-        return [ms for lab, ms in timing.read(self.timing_path) if lab == self.label][self._records_before or 0:]
+        label = self.label + (timing.CPU_SUFFIX if cpu else "")
+        return [ms for lab, ms in timing.read(self.timing_path) if lab == label][self._records_before or 0:]
 
     def step(self) -> float | None:
         """One drag from a settled view, alternately right and left; its latency in ms (None: no re-shade came)."""
