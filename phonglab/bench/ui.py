@@ -45,6 +45,8 @@ import urllib.error
 import urllib.request
 from pathlib import Path
 
+from phonglab.bench.ui_probe import Probe
+
 HELP = "slider-to-pixels and turn-to-re-shaded-pixels latency in a real browser against a minimal trame app"
 
 #: Debian's Chromium
@@ -318,7 +320,7 @@ def pause(page) -> None:
     page.evaluate("() => { window.__phonglabBench.paused = true; }")
 
 
-class KeyPress:
+class KeyPress(Probe):
     """Key presses on one page's slider, each timed from the key event to changed pixels.
 
     Parameters
@@ -334,27 +336,9 @@ class KeyPress:
     """
 
     def __init__(self, page, *, slider, timing_path, label):
-        self.page, self.slider, self.timing_path, self.label = page, slider, timing_path, label
-        self.latency_ms: list[float] = []
-        self._records_before = None
+        super().__init__(page, timing_path=timing_path, label=label)
+        self.slider = slider
         self._presses = 0
-
-    def records(self) -> int:
-        from phonglab.app import timing
-
-        return len([r for r in timing.read(self.timing_path) if r[0] == self.label])
-
-    def start_measuring(self) -> None:
-        """The presses so far were warm-up: keep the later ones (and the server's times from here)."""
-        self.latency_ms.clear()
-        self._records_before = self.records()
-
-    def server_ms(self, cpu: bool = False) -> list[float]:
-        """The server's wall-clock time per update since :meth:`start_measuring` (``cpu``: its CPU time)."""
-        from phonglab.app import timing
-
-        label = self.label + (timing.CPU_SUFFIX if cpu else "")
-        return [ms for lab, ms in timing.read(self.timing_path) if lab == label][self._records_before or 0:]
 
     def step(self) -> float:
         """One arrow key from a settled view, right and left in turn (the slider never reaches its end); ms."""
@@ -367,11 +351,7 @@ class KeyPress:
         self._presses += 1
         page.wait_for_function("() => window.__phonglabBench.latency !== null", timeout=30_000)
         latency = page.evaluate("() => window.__phonglabBench.latency")
-        # let the server's update land in its timing file before the next step
-        deadline = time.monotonic() + 10
-        while time.monotonic() < deadline and self.records() <= records:
-            time.sleep(0.01)
-        self.latency_ms.append(latency)
+        self.keep(latency, records)
         return latency
 
 

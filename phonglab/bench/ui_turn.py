@@ -18,7 +18,7 @@ records its time per re-shade under the label ``turn``
 
 from __future__ import annotations
 
-import time
+from phonglab.bench.ui_probe import Probe
 
 #: pixels per drag step (vtk.js turns the camera by a few degrees for this)
 STEP_PX = 24
@@ -49,7 +49,7 @@ TURN_JS = r"""
 """
 
 
-class Turn:
+class Turn(Probe):
     """Drags of one page's view, each timed from the mouse move to the re-shaded pixels.
 
     Parameters
@@ -69,30 +69,15 @@ class Turn:
     step_px = STEP_PX
 
     def __init__(self, page, *, canvas, timing_path, settle, label="turn"):
-        self.page, self.canvas, self.timing_path, self.label = page, canvas, timing_path, label
-        self.settle = settle
-        self.latency_ms: list[float] = []
+        super().__init__(page, timing_path=timing_path, label=label)
+        self.canvas, self.settle = canvas, settle
         self.missed = 0
-        self._records_before = None
         self._steps = 0
-
-    def records(self) -> int:
-        from phonglab.app import timing
-
-        return len([r for r in timing.read(self.timing_path) if r[0] == self.label])
 
     def start_measuring(self) -> None:
         """The drags so far were warm-up: keep the later ones (and the server's times from here)."""
-        self.latency_ms.clear()
+        super().start_measuring()
         self.missed = 0
-        self._records_before = self.records()
-
-    def server_ms(self, cpu: bool = False) -> list[float]:
-        """The server's wall-clock time per re-shade since :meth:`start_measuring` (``cpu``: its CPU time)."""
-        from phonglab.app import timing
-
-        label = self.label + (timing.CPU_SUFFIX if cpu else "")
-        return [ms for lab, ms in timing.read(self.timing_path) if lab == label][self._records_before or 0:]
 
     def step(self) -> float | None:
         """One drag from a settled view, alternately right and left; its latency in ms (None: no re-shade came)."""
@@ -114,9 +99,5 @@ class Turn:
             self.missed += 1
             return None
         latency = page.evaluate("() => window.__phonglabTurn.latency")
-        # the drag's end is re-shaded and synchronised too: let it land before the next step
-        deadline = time.monotonic() + 10
-        while time.monotonic() < deadline and self.records() <= records:
-            time.sleep(0.01)
-        self.latency_ms.append(latency)
+        self.keep(latency, records)  # (the drag's end is re-shaded and synchronised too)
         return latency
