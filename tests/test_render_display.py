@@ -79,6 +79,12 @@ def test_display_rgb8_clips_over_exposure_and_blacks_out_nan():
 def test_light_marker_colour_is_srgb_encoded():
     # a light of linear colour (1, 0.5, 0) shows its orange as sRGB (255, 188, 0)
     assert light_color_255(pl.PointLight(position=(0, 0, 1), color=(1.0, 0.5, 0.0))) == (255, 188, 0)
+    # a lamp that gives no light is drawn switched off (lesson 7's second lamp at intensity 0 was a bright white)
+    from phonglab.render.glyphs import OFF_LIGHT_COLOR
+
+    for off in (pl.PointLight(position=(0, 0, 1), intensity=0.0), pl.PointLight(position=(0, 0, 1), color=(0, 0, 0))):
+        assert light_color_255(off) == OFF_LIGHT_COLOR, off
+    assert light_color_255(pl.PointLight(position=(0, 0, 1), intensity=0.05)) == (255, 255, 255)
 
 
 def test_display_and_exposure_are_scene_fields():

@@ -162,12 +162,20 @@ def arrow(start, direction, color, view_direction, length: float = ARROW_FRACTIO
     return _colored(mesh, color, view_direction)
 
 
+#: the marker colour of a light that gives no light (intensity or colour 0): a lamp switched off
+OFF_LIGHT_COLOR = (70, 70, 70)
+
+
 def light_color_255(light) -> tuple[int, int, int]:
-    """A marker colour for a light: its (linear) colour, brightened so the largest channel is 1, sRGB-encoded."""
+    """A marker colour for a light: its (linear) colour, brightened so the largest channel is 1, sRGB-encoded.
+
+    A light that gives no light (intensity 0, or a black colour) is drawn dark grey, switched off.
+    """
     c = np.asarray(getattr(light, "color", (1.0, 1.0, 1.0)), dtype=float)
     top = c.max()
-    c = c / top if top > 0 else np.ones(3)
-    return tuple(int(x) for x in display_bytes(c, encoding="srgb"))
+    if not top > 0 or not float(getattr(light, "intensity", 1.0)) > 0:
+        return OFF_LIGHT_COLOR
+    return tuple(int(x) for x in display_bytes(c / top, encoding="srgb"))
 
 
 def light_marker(light, view_direction, centre=(0.0, 0.0, 0.0)) -> pv.PolyData | None:
