@@ -83,8 +83,8 @@ def _differs(a, b) -> bool:
     return bool(np.any(np.abs(np.asarray(a, dtype=np.float64) - np.asarray(b, dtype=np.float64)) > 5e-4))
 
 
-def _parts(scene, p, n, light_index, part, total, mistake) -> list[dict]:
-    """The shown light with the ambient, what each other directed light adds, and the total.
+def _parts(scene, p, n, light_index, part, total, mistake) -> list[tuple[str, np.ndarray]]:
+    """``(name, rgb)``: the shown light with the ambient, what each other directed light adds, and the total.
 
     Each other light adds what the core computes with it and the ambient lights,
     less the ambient lights alone. Where a mistake makes the lights' sum differ
@@ -102,8 +102,7 @@ def _parts(scene, p, n, light_index, part, total, mistake) -> list[dict]:
         adds = [("the other lights add" if len(others) > 1 else f"light {others[0]} adds",
                  total.color[0] - part.color[0])]
     glow = "emission + " if any(part.emission[0]) else ""
-    parts = [(f"{glow}ambient + light {light_index}", part.color[0]), *adds, ("total", total.color[0])]
-    return [{"name": name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb), "rgb": rgb} for name, rgb in parts]
+    return [(f"{glow}ambient + light {light_index}", part.color[0]), *adds, ("total", total.color[0])]
 
 
 def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None, mistake=None) -> dict:
@@ -202,7 +201,8 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
     if several:
         # which light the dots and the equation belong to, and its own terms beside its dots
         out["light_name"] = f"light {light_index}"
-        out["parts"] = _parts(scene, p, n, light_index, part, total, mistake)
+        parts = _parts(scene, p, n, light_index, part, total, mistake)
+        out["parts"] = [{"name": name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)} for name, rgb in parts]
         specular_dot = "n·h" if blinn else "r·v"
         for dot in out["dots"]:
             term = {"n·l": "diffuse", specular_dot: "specular"}.get(dot["name"])
@@ -236,32 +236,25 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         rows.append(("sum", rf"I = {_rgb_tex(part.color[0], 3)}"))
     else:
         # the parts that add up to the total: the ambient with this light, each other light, the sum
-        first, *others_, whole = out["parts"]
+        *shown, (_, whole) = parts
         glow = "k_e + " if any(part.emission[0]) else ""
         rows.append((out["light_name"], rf"{glow}k_a I_a + \text{{{out['light_name']}}} = {_rgb_tex(part.color[0], 3)}"))
-        rows += [(o["name"].removesuffix(" adds") if o["name"].startswith("light") else "others",
-                  rf"\text{{{o['name']}}}\ {_rgb_tex(o['rgb'], 3)}") for o in others_]
-        rows.append(("total", "I = " + " + ".join(_rgb_tex(x["rgb"], 3) for x in [first, *others_])
-                     + rf" = {_rgb_tex(whole['rgb'], 3)}"))
+        rows += [(name.removesuffix(" adds") if name.startswith("light") else "others",
+                  rf"\text{{{name}}}\ {_rgb_tex(rgb, 3)}") for name, rgb in shown[1:]]
+        rows.append(("total", "I = " + " + ".join(_rgb_tex(rgb, 3) for _, rgb in shown)
+                     + rf" = {_rgb_tex(whole, 3)}"))
     out["equation"] = "".join(
         f'<div class="eq-row"><span class="eq-label">{label}</span>{mathml(tex)}</div>' for label, tex in rows
     )
     if several:
         out["equation"] = (f'<div class="phonglab-eq-head">Worked for {out["light_name"]} (its vectors are drawn) '
                            "with the ambient light; the last rows add the other lights.</div>" + out["equation"])
-    for x in out["parts"]:
-        del x["rgb"]
-    if vectors.nl <= 0 and several:
-        out["notes"].append(f"n·l ≤ 0: {out['light_name']} is behind the surface here, so "
-                            + ("its diffuse and specular are 0." if mistake is None else
-                               f"correct code gives its diffuse and specular 0; the mistaken code gives diffuse "
+    if vectors.nl <= 0:
+        who, its = (f"{out['light_name']} is", "its ") if several else ("the light is", "")
+        out["notes"].append(f"n·l ≤ 0: {who} behind the surface here, so "
+                            + (f"{its}diffuse and specular are 0." if mistake is None else
+                               f"correct code gives {its}diffuse and specular 0; the mistaken code gives diffuse "
                                f"{_rgb_text(part.diffuse[0])} and specular {_rgb_text(part.specular[0])}."))
-    elif vectors.nl <= 0 and mistake is None:
-        out["notes"].append("n·l ≤ 0: the light is behind the surface here, so diffuse and specular are 0.")
-    elif vectors.nl <= 0:
-        out["notes"].append("n·l ≤ 0: the light is behind the surface here, so correct code gives diffuse and "
-                            f"specular 0; the mistaken code gives diffuse {_rgb_text(part.diffuse[0])} and "
-                            f"specular {_rgb_text(part.specular[0])}.")
     if mistake is not None:
         changed = [t["name"] for t in out["terms"] if "correct" in t]
         out["notes"].insert(0, f"Deliberately wrong ({out['mistake']['title']}): these are the mistaken code's "
