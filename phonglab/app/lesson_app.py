@@ -357,7 +357,7 @@ class LessonApp(TrameApp):
             self.pictures.drop()  # a picture still being made is not shown
             self.state.pixel_src = ""
             return
-        # the VTK part here, the NumPy part and the PNG in a thread; the newest picture wins
+        # the VTK part here, the NumPy part and the PNG in a thread; the newest scene's picture comes last
         self.pictures.request(lambda: pixel_job.prepare(self.view, annotate=True))
 
     def _planned(self, scene):
