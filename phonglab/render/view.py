@@ -601,10 +601,10 @@ class SceneView:
         legend : bool
             Also draw the legend box.
         """
-        if not self.show_labels:
+        found = self.image_labels(image.shape[0])
+        if found is None:
             return image
-        height = image.shape[0]
-        labels, entries = self._arrows.image_labels(lambda world: self.to_image(world, height))
+        labels, entries = found
         image = draw_labels(image, labels)
         return draw_legend(image, entries) if legend else image
 
