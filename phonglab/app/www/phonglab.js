@@ -67,17 +67,17 @@ window.phonglab = {
         },
       },
       methods: {
-        // what a frame shows: the camera, the scene synchronised last, the canvas size
+        // what a frame shows: "camera|scene synchronised last|canvas size"
         shownKey() {
           const view = this.view;
           const camera = view.renderer ? view.renderer.getActiveCamera() : null;
           if (!camera) return null;
           const size = view.openglRenderWindow ? view.openglRenderWindow.getSize() : [];
-          return [camera.getPosition(), camera.getFocalPoint(), camera.getViewUp(), camera.getViewAngle(),
-                  view.mtime, size].join(" ");
+          const eye = [camera.getPosition(), camera.getFocalPoint(), camera.getViewUp(), camera.getViewAngle()];
+          return `${eye.join(" ")}|${view.mtime}|${size}`;
         },
         cameraOf(key) {
-          return key === null ? null : key.split(" ").slice(0, 4).join(" ");
+          return key === null ? null : key.split("|")[0];
         },
         // hold only where a frame costs more than waiting for the colours
         slow() {
