@@ -254,9 +254,23 @@ def face_centroids_normals(mesh: pv.PolyData) -> tuple[np.ndarray, np.ndarray]:
     return centroids.astype(np.float32), face.astype(np.float32)
 
 
-#: id(mesh) -> (a weak reference to it, the MTimes of its points and triangles, their cell locator);
+#: (what, id(mesh)) -> (a weak reference to the mesh, the MTimes of its points and triangles, the value);
 #: an entry goes when its mesh does (PolyData is not hashable, so not a WeakKeyDictionary)
-_LOCATORS: dict[int, tuple] = {}
+_PER_MESH: dict[tuple, tuple] = {}
+
+
+def _per_mesh(mesh: pv.PolyData, what: str, make):
+    """``make(mesh)``, made once per mesh and again only when its points or triangles change (not its colours)."""
+    stamp = (mesh.GetPoints().GetMTime(), mesh.GetPolys().GetMTime())
+    key = (what, id(mesh))
+    cached = _PER_MESH.get(key)
+    if cached is not None and cached[0]() is mesh and cached[1] == stamp:
+        return cached[2]
+    value = make(mesh)
+    if cached is None or cached[0]() is not mesh:
+        weakref.finalize(mesh, _PER_MESH.pop, key, None)
+    _PER_MESH[key] = (weakref.ref(mesh), stamp, value)
+    return value
 
 
 def _locator(mesh: pv.PolyData) -> vtk.vtkStaticCellLocator:
@@ -264,22 +278,14 @@ def _locator(mesh: pv.PolyData) -> vtk.vtkStaticCellLocator:
 
     New colours (point data) keep it: a turn of the view casts rays on the same mesh every time.
     """
-    stamp = (mesh.GetPoints().GetMTime(), mesh.GetPolys().GetMTime())
-    cached = _LOCATORS.get(id(mesh))
-    if cached is not None and cached[0]() is mesh and cached[1] == stamp:
-        return cached[2]
-    locator = vtk.vtkStaticCellLocator()
-    locator.SetDataSet(mesh)
-    locator.BuildLocator()
-    key = id(mesh)
-    if cached is None or cached[0]() is not mesh:
-        weakref.finalize(mesh, _LOCATORS.pop, key, None)
-    _LOCATORS[key] = (weakref.ref(mesh), stamp, locator)
-    return locator
 
+    def build(mesh):
+        locator = vtk.vtkStaticCellLocator()
+        locator.SetDataSet(mesh)
+        locator.BuildLocator()
+        return locator
 
-#: id(mesh) -> (a weak reference to it, the MTimes of its points and triangles, whether it is closed and wound outwards)
-_CLOSED: dict[int, tuple] = {}
+    return _per_mesh(mesh, "locator", build)
 
 
 def closed_outward(mesh: pv.PolyData) -> bool:
@@ -293,24 +299,20 @@ def closed_outward(mesh: pv.PolyData) -> bool:
     with sharp normals) does not qualify. Kept per mesh until its points or
     triangles change.
     """
-    stamp = (mesh.GetPoints().GetMTime(), mesh.GetPolys().GetMTime())
-    cached = _CLOSED.get(id(mesh))
-    if cached is not None and cached[0]() is mesh and cached[1] == stamp:
-        return cached[2]
+    return _per_mesh(mesh, "closed outward", _closed_outward)
+
+
+def _closed_outward(mesh: pv.PolyData) -> bool:
     tri = triangles(mesh).astype(np.int64)
-    closed = False
-    if len(tri) and mesh.n_cells == len(tri):
-        n = np.int64(mesh.n_points)
-        starts, ends = tri.ravel(), np.roll(tri, -1, axis=1).ravel()  # the edges a->b of every triangle
-        forward, backward = np.sort(starts * n + ends), np.sort(ends * n + starts)
-        if np.all(forward[1:] != forward[:-1]) and np.array_equal(forward, backward):
-            p = np.asarray(mesh.points, dtype=np.float64)[tri]
-            closed = float(np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum()) > 0.0
-    key = id(mesh)
-    if cached is None or cached[0]() is not mesh:
-        weakref.finalize(mesh, _CLOSED.pop, key, None)
-    _CLOSED[key] = (weakref.ref(mesh), stamp, closed)
-    return closed
+    if not len(tri) or mesh.n_cells != len(tri):
+        return False
+    n = np.int64(mesh.n_points)
+    starts, ends = tri.ravel(), np.roll(tri, -1, axis=1).ravel()  # the edges a->b of every triangle
+    forward, backward = np.sort(starts * n + ends), np.sort(ends * n + starts)
+    if not (np.all(forward[1:] != forward[:-1]) and np.array_equal(forward, backward)):
+        return False
+    p = np.asarray(mesh.points, dtype=np.float64)[tri]
+    return float(np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum()) > 0.0
 
 
 def surface_point(mesh: pv.PolyData, point) -> tuple[np.ndarray, np.ndarray]:
