@@ -4,7 +4,7 @@ Lesson 2 of :data:`phonglab.bench.scenes.LESSONS` has a display formula a little
 the text column of a 1280 px window (the diffuse and specular terms with a
 spotlight and attenuation) and one far wider (the rendering equation plus a
 sum over lights). The checks run at 1280 and 1440 px. A formula is never
-typeset below 90 % of its size (``MIN_SCALE`` in phonglab.js): past that it is
+typeset below 90 % of its size (``MIN_SCALE`` in formulas.js): past that it is
 broken into lines before its top-level operators, and only a piece that is
 still too wide scrolls sideways, with a fade where it continues.
 """
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import pytest
 
-#: the smallest scale phonglab.js gives a formula before it breaks it into lines
+#: the smallest scale formulas.js gives a formula before it breaks it into lines
 MIN_SCALE = 0.9
 #: what a continuation line may start with: an operator, or the bracket of a factor
 BREAKS = "=≈≤≥<>→+−-±·∘×(["
@@ -24,7 +24,7 @@ MEASURE = """() => {
   const c = column.getBoundingClientRect();
   const inner = { left: c.left + parseFloat(style.paddingLeft), right: c.right - parseFloat(style.paddingRight) };
   const body = parseFloat(getComputedStyle(document.querySelector('.phonglab-body')).fontSize);
-  // the formulas as the server sent them, before phonglab.js fitted them
+  // the formulas as the server sent them, before formulas.js fitted them
   const sent = new DOMParser().parseFromString(window.trame.state.get('lesson_html'), 'text/html');
   const originals = [...sent.querySelectorAll('.math-block math')].map((m) => m.textContent.replace(/\\s+/g, ''));
   return [...document.querySelectorAll('.phonglab-body .math-block')].map((block, i) => {
@@ -59,7 +59,7 @@ def test_display_maths_fits_breaks_or_scrolls_within_the_column(app_page, width)
     page.set_viewport_size({"width": width, "height": 800})
     app_page.open_lesson("A spotlight on a floor")
     page.wait_for_function("() => document.querySelectorAll('.phonglab-body .math-block').length === 2")
-    page.wait_for_timeout(300)  # phonglab.js fits the formulas on the next animation frame
+    page.wait_for_timeout(300)  # formulas.js fits the formulas on the next animation frame
     blocks = page.evaluate(MEASURE)
     assert len(blocks) == 2, blocks
     for i, b in enumerate(blocks):

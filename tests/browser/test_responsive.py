@@ -31,7 +31,7 @@ SLUGS = sorted(p.stem for p in LESSONS.glob("*.md") if p.stem[:2].isdigit())
 SIZES = [(1280, 800), (1366, 768), (800, 900), (1920, 1080)]
 #: formulas are at least this fraction of the lesson text's font size
 MIN_FORMULA = 0.9
-#: the smallest scale phonglab.js's fitting gives a formula before it breaks it into lines (its MIN_SCALE)
+#: the smallest scale formulas.js gives a formula before it breaks it into lines (its MIN_SCALE)
 FIT_SCALE = 0.9
 
 #: boxes that hold text, by what they are (a CSS selector each)
@@ -93,7 +93,7 @@ MEASURE = """(boxes) => {
         if (!(scrolls && (bar || fade)))
           problems.push(`${what} cuts its text: ${name(e)} ${start(e)}: scrollWidth ${e.scrollWidth} > clientWidth ${e.clientWidth} (overflow-x ${s.overflowX})`);
         else if (e.matches('.math-block, .math-fit') && !e.querySelector('mtable.math-lines')) {
-          // a formula may scroll only when the fitting (phonglab.js) could not fit it: a formula left
+          // a formula may scroll only when the fitting (formulas.js) could not fit it: a formula left
           // whole that would fit at the fitting's smallest scale was measured wrong, and its end is cut
           const scale = e.style.getPropertyValue('--math-scale');
           e.style.setProperty('--math-scale', String(%FIT%));
@@ -129,7 +129,7 @@ MEASURE = """(boxes) => {
   return problems;
 }""".replace("%MIN%", str(MIN_FORMULA)).replace("%FIT%", str(FIT_SCALE))
 
-#: three animation frames: the layout, the formulas' fitting (phonglab.js) and their re-layout are done
+#: three animation frames: the layout, the formulas' fitting (formulas.js) and their re-layout are done
 FRAMES = "() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => requestAnimationFrame(done))))"
 
 
