@@ -120,6 +120,17 @@ def test_unreadable_file_is_refused_naming_the_path(tmp_path):
     assert "geometry.path" in str(info.value) and "broken.ply" in str(info.value), str(info.value)
 
 
+def test_a_long_path_keeps_its_file_name_in_the_error(tmp_path):
+    folder = tmp_path / ("deep-folder-" * 8)
+    folder.mkdir()
+    path = folder / "broken.ply"
+    path.write_text("this is not a ply file\n")
+    with pytest.raises(SceneError) as info:
+        build_mesh(Geometry("file", path=str(path)))
+    message = str(info.value)
+    assert "broken.ply" in message and "characters)" in message and len(message) < 200, message
+
+
 def test_surface_point_projects_onto_the_mesh_with_blended_normal():
     mesh = build_mesh(Geometry("sphere", 48))
     point, normal = surface_point(mesh, (0.35, 0.45, 0.82))

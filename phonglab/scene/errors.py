@@ -122,15 +122,20 @@ SHOWN_VALUE_CHARS = 80
 def show_value(value: Any, limit: int = SHOWN_VALUE_CHARS) -> str:
     """Render a value as it would be written in TOML (``true``, ``"text"``, ``[1, 2]``).
 
-    At most ``limit`` characters: a longer rendering is cut and ends in
-    ``… (N characters)`` so that a huge input cannot flood a message. Lists
+    At most about ``limit`` characters: a longer rendering is cut and ends
+    in ``… (N characters)`` so that a huge input cannot flood a message; a
+    long string keeps its last third (``"/home/…/broken.ply" (83 characters)``). Lists
     and tables are rendered item by item only as far as the limit needs.
     """
     text = _show(value, limit + 1)
     if len(text) <= limit:
         return text
     total = _shown_length(value)
-    return text[:limit] + f"… ({total:,} characters)" if total else text[:limit] + "…"
+    if total:
+        # a long string keeps its end too: a path's file name, the last words of a text
+        tail = _show(value[-(limit // 3):], limit)[1:]
+        return text[: limit - len(tail)] + "…" + tail + f" ({total:,} characters)"
+    return text[:limit] + "…"
 
 
 def _shown_length(value: Any) -> int | None:
