@@ -73,7 +73,7 @@ def test_reflection_is_unit_and_an_involution(l, n):
 
 
 @settings(max_examples=100, deadline=None)
-@given(unit_vectors(), unit_vectors(), st.floats(1, 1000), st.sampled_from(pl.MODELS))
+@given(unit_vectors(), unit_vectors(), st.floats(1, 1000), st.sampled_from(pl.PHONG_MODELS))
 def test_specular_peak_sits_at_r_equals_v_and_is_bounded(l, v, alpha, model):
     n = np.array([0.0, 0.0, 1.0])
     assume(l @ n > 1e-3)

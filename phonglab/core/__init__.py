@@ -11,8 +11,9 @@ the specular power), :mod:`~phonglab.core.model` (materials and lights),
 :mod:`~phonglab.core.physics` (face-forward, attenuation, spot factor),
 :mod:`~phonglab.core.reference` (the model, one light at a time),
 :mod:`~phonglab.core.plan` and :mod:`~phonglab.core.shading` (the fast
-kernel), :mod:`~phonglab.core.probe` (the vectors at one point) and
-:mod:`~phonglab.core.area` (area lights).
+kernel), :mod:`~phonglab.core.probe` (the vectors at one point),
+:mod:`~phonglab.core.area` (area lights) and :mod:`~phonglab.core.microfacet`
+(Cook–Torrance's terms).
 """
 
 from .area import AREA_METHODS, AreaLight, area_diffuse, area_irradiance, polygon_irradiance
@@ -20,6 +21,7 @@ from .model import (
     ATTENUATION_MAX,
     DISTANCE_FLOOR,
     MODELS,
+    PHONG_MODELS,
     AmbientLight,
     DirectionalLight,
     InvalidValue,
@@ -38,7 +40,7 @@ from .shading import Shading, shade
 from .vectors import SQUARING_MAX, dot, normalize, one_minus_cos, reflect
 
 __all__ = [
-    "ATTENUATION_MAX", "DISTANCE_FLOOR", "MODELS", "SQUARING_MAX",
+    "ATTENUATION_MAX", "DISTANCE_FLOOR", "MODELS", "PHONG_MODELS", "SQUARING_MAX",
     "AmbientLight", "DirectionalLight", "InvalidValue", "Light", "Material", "PointLight", "SpotLight",
     "light_from_homogeneous", "vec3",
     "SPOT_SLACK_ULPS", "attenuation", "face_forward", "facing_away", "spot_cos_limit", "spot_factor",

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 __all__ = [
     "MODELS",
+    "PHONG_MODELS",
     "InvalidValue",
     "vec3",
     "Material",
@@ -30,7 +31,9 @@ __all__ = [
 ]
 
 #: The illumination models :func:`~phonglab.core.shade` evaluates; every layer takes the list from here.
-MODELS = ("phong", "blinn-phong")
+MODELS = ("phong", "blinn-phong", "cook-torrance")
+#: The models with a shininess exponent α: Phong's mirror-vector lobe and Blinn-Phong's half-vector lobe.
+PHONG_MODELS = ("phong", "blinn-phong")
 
 #: Attenuation uses ``max(d, DISTANCE_FLOOR)`` for the light's distance ``d``.
 DISTANCE_FLOOR = 1e-6
@@ -188,13 +191,22 @@ class Material:
         Light the surface emits, ``k_e``.
     opacity : float in [0, 1], default 1
         Carried for rendering; the lighting does not use it.
+    roughness : float in [0, 1], default 0.5
+        Cook–Torrance only: the perceptual roughness, ``α_GGX = roughness²``
+        (below :data:`~phonglab.core.microfacet.MIN_ROUGHNESS` it is raised to it).
+    metallic : float in [0, 1], default 0
+        Cook–Torrance only: 0 a dielectric (``F₀ = 0.04``), 1 a metal
+        (``F₀ = k_d``, no diffuse term); values between mix the two.
 
     Notes
     -----
     .. math:: I = k_e + k_a \\circ I_a + \\sum_l f_l \\left[k_d \\circ I_{d,l}
               \\max(0, n\\cdot l) + k_s \\circ I_{s,l} \\max(0, r\\cdot v)^{\\alpha}\\right]
 
-    ``∘`` multiplies per RGB channel.
+    ``∘`` multiplies per RGB channel. Under ``model="cook-torrance"``
+    (:mod:`phonglab.core.microfacet`) ``k_d`` is the base colour, ``k_s``
+    scales the specular lobe (1 is physical) and ``shininess`` is not used;
+    the Phong models do not use ``roughness`` or ``metallic``.
     """
 
     ka: RGB
@@ -203,15 +215,19 @@ class Material:
     shininess: float
     emission: RGB = (0.0, 0.0, 0.0)
     opacity: float = 1.0
+    roughness: float = 0.5
+    metallic: float = 0.0
 
     def __post_init__(self):
         for name in ("ka", "kd", "ks", "emission"):
             object.__setattr__(self, name, _rgb(f"Material.{name}", getattr(self, name)))
         object.__setattr__(self, "shininess", _number("Material.shininess", self.shininess))
-        opacity = _number("Material.opacity", self.opacity, allowed="a number in [0, 1]")
-        if opacity > 1:
-            raise InvalidValue("Material.opacity", self.opacity, "must be a number in [0, 1]")
-        object.__setattr__(self, "opacity", opacity)
+        for name in ("opacity", "roughness", "metallic"):
+            where = f"Material.{name}"
+            x = _number(where, getattr(self, name), allowed="a number in [0, 1]")
+            if x > 1:
+                raise InvalidValue(where, getattr(self, name), "must be a number in [0, 1]")
+            object.__setattr__(self, name, x)
 
 
 @dataclass(frozen=True)

@@ -180,15 +180,19 @@ def plan_effects(
     any_id = any(not _is_zero(lt.diffuse_rgb) for _, lt in reaching)
     any_is = any(not _is_zero(lt.specular_rgb) for _, lt in reaching)
 
+    metal = model == "cook-torrance" and material.metallic == 1
     diffuse = verdict(
-        bool(reaching) and any_id and not _is_zero(material.kd), "diffuse",
+        bool(reaching) and any_id and not _is_zero(material.kd) and not metal, "diffuse",
         "k_d > 0 and a light reaches the surface",
         "no light reaches the surface" if not reaching else
-        ("k_d is 0 in every channel" if _is_zero(material.kd) else "no light has a diffuse intensity"),
+        ("k_d is 0 in every channel" if _is_zero(material.kd) else
+         "a metal (metallic = 1) has no diffuse term" if metal else "no light has a diffuse intensity"),
     )
+    lobe = (f"roughness {material.roughness:g}, metallic {material.metallic:g}" if model == "cook-torrance"
+            else f"α = {material.shininess:g}")
     specular = verdict(
         bool(reaching) and any_is and not _is_zero(material.ks), "specular",
-        f"k_s > 0 and a light reaches the surface ({model}, α = {material.shininess:g})",
+        f"k_s > 0 and a light reaches the surface ({model}, {lobe})",
         "no light reaches the surface" if not reaching else
         ("k_s is 0 in every channel" if _is_zero(material.ks) else "no light has a specular intensity"),
     )
@@ -220,7 +224,7 @@ def plan_effects(
         verdict(infinite, "constant V",
                 "infinite viewer: V is the same at every point",
                 "a local viewer: V is normalised per point")
-        if specular and model == "blinn-phong" and infinite:
+        if (specular or model == "cook-torrance") and model != "phong" and infinite:
             for lp in plans:
                 if lp.constant_l:
                     computed.append((f"light {lp.index}: constant H", "directional light and infinite viewer"))

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .checks import as_points, check_lights, check_material, refuse_nonfinite, viewer
+from .microfacet import fresnel_f0, ggx_alpha, ggx_distribution, smith_visibility_nl
 from .model import AmbientLight, DirectionalLight, InvalidValue, Material
 from .physics import attenuation, face_forward, spot_factor
 from .plan import LightPlan, Plan, plan_effects
@@ -202,6 +203,10 @@ class _LightConstants:
     plan: LightPlan
     kd_id: np.ndarray | None  # k_d ∘ I_d, when diffuse is computed
     ks_is: np.ndarray | None  # k_s ∘ I_s, when specular is computed
+    # Cook–Torrance: the diffuse colour and the specular lobe's two parts, F = F₀ + (1 − F₀)(1 − v·h)⁵
+    ct_diffuse: np.ndarray | None = None  # k_d ∘ I_d ∘ (1 − m)(1 − F₀)
+    ct_f0: np.ndarray | None = None  # k_s ∘ I_s ∘ F₀
+    ct_grazing: np.ndarray | None = None  # k_s ∘ I_s ∘ (1 − F₀)
     # a directional light
     l: np.ndarray | None = None  # the unit direction to the light, the same at every point
     l_plus_v: np.ndarray | None = None  # l + v, with an infinite viewer
@@ -235,7 +240,13 @@ class _Constants:
         if view_direction is not None:
             self.view = _unit(view_direction, dtype)
         kd, ks = np.asarray(material.kd), np.asarray(material.ks)
-        self.needs_view = plan.specular or plan.two_sided
+        self.cook_torrance = plan.model == "cook-torrance"
+        if self.cook_torrance:
+            self.alpha = ggx_alpha(material.roughness)
+            self.f0 = fresnel_f0(material.kd, material.metallic)
+            self.metallic = material.metallic
+        # Cook–Torrance needs v for its diffuse term too (the Fresnel weight and the n·v gate)
+        self.needs_view = plan.specular or plan.two_sided or (self.cook_torrance and bool(plan.lights))
         self.needs_points = (self.needs_view and eye is not None) or any(
             not isinstance(lights[lp.index], DirectionalLight) for lp in plan.lights)
         # the arrays the loop reads, checked for NaN and inf by refuse_nonfinite
@@ -247,6 +258,8 @@ class _Constants:
         dtype = self.dtype
         kd_id = (kd * np.asarray(lt.diffuse_rgb)).astype(dtype)[:, None] if plan.diffuse else None
         ks_is = (ks * np.asarray(lt.specular_rgb)).astype(dtype)[:, None] if plan.specular else None
+        if self.cook_torrance:
+            return self._cook_torrance_light(lp, lt, plan, kd, ks)
         if isinstance(lt, DirectionalLight):
             l = _unit(lt.direction, dtype)
             if not (plan.constant_view and lp.constant_l):
@@ -262,6 +275,33 @@ class _Constants:
                                    attenuation=lt.attenuation)
         return _LightConstants(plan=lp, kd_id=kd_id, ks_is=ks_is, position=position, attenuation=lt.attenuation,
                                axis=_unit(lt.direction, dtype), cutoff=lt.cutoff, exponent=lt.exponent)
+
+    def _cook_torrance_light(self, lp, lt, plan, kd, ks) -> _LightConstants:
+        """A light's constants for Cook–Torrance: its colours folded with ``F₀`` and ``metallic``."""
+        dtype = self.dtype
+
+        def column(rgb):
+            return np.asarray(rgb, np.float64).astype(dtype)[:, None]
+
+        i_d, i_s = np.asarray(lt.diffuse_rgb), np.asarray(lt.specular_rgb)
+        terms = dict(
+            kd_id=column(kd * i_d) if plan.diffuse else None,
+            ks_is=column(ks * i_s) if plan.specular else None,
+            ct_diffuse=column(kd * i_d * (1 - self.metallic) * (1 - self.f0)) if plan.diffuse else None,
+            ct_f0=column(ks * i_s * self.f0) if plan.specular else None,
+            ct_grazing=column(ks * i_s * (1 - self.f0)) if plan.specular else None,
+        )
+        if isinstance(lt, DirectionalLight):
+            l = _unit(lt.direction, dtype)
+            if not (plan.constant_view and lp.constant_l):
+                return _LightConstants(plan=lp, l=l, **terms)
+            h = normalize_c(l + self.view)[0]
+            return _LightConstants(plan=lp, l=l, l_plus_v=l + self.view, h=h, h_zero=not h.any(), **terms)
+        position = np.asarray(lt.position, dtype)[:, None]
+        if not lp.spot:
+            return _LightConstants(plan=lp, position=position, attenuation=lt.attenuation, **terms)
+        return _LightConstants(plan=lp, position=position, attenuation=lt.attenuation,
+                               axis=_unit(lt.direction, dtype), cutoff=lt.cutoff, exponent=lt.exponent, **terms)
 
     def refuse_nonfinite(self):
         """Check the inputs the loop reads for NaN and inf, once per call.
@@ -285,6 +325,7 @@ class _Surface:
     v: np.ndarray | None  # unit vectors to the eye, when specular or two-sided needs them
     v_len: np.ndarray | None  # |eye − p|, for a local viewer
     v_zero: bool  # the eye sits on some point: v = 0 there
+    nv: np.ndarray | None = None  # n·v, for Cook–Torrance
 
 
 def _unit(direction, dtype):
@@ -328,7 +369,8 @@ def _shade_block(points, normals, const, plan, diffuse_out, specular_out):
     # two-sided: the normals turned towards the eye
     if plan.two_sided:
         face_forward(n, v, axis=0, out=n)
-    surface = _Surface(p=p, n=n, v=v, v_len=v_len, v_zero=v_zero)
+    nv = dot_c(n, v) if const.cook_torrance and v is not None else None
+    surface = _Surface(p=p, n=n, v=v, v_len=v_len, v_zero=v_zero, nv=nv)
 
     first = True
     for light in const.lights:
@@ -348,6 +390,11 @@ def _shade_block(points, normals, const, plan, diffuse_out, specular_out):
             np.negative(cos_axis, out=cos_axis)  # the axis against the ray light -> point
             f_spot = spot_factor(cos_axis, cutoff=light.cutoff, exponent=light.exponent, out=cos_axis)
             f = f_spot if f is None else np.multiply(f, f_spot, out=f)
+
+        if const.cook_torrance:
+            _cook_torrance(surface, l, nl, f, light, const, plan, diffuse_out, specular_out, first)
+            first = False
+            continue
 
         if plan.diffuse:
             # diffuse: k_d ∘ I_d · f_l · max(0, n·l)
@@ -397,6 +444,55 @@ def _specular_power(surface, l, nl, light, const):
     if h_zero:  # l = −v: no half vector
         lit &= dot_c(h, h) > zero
     return cos_power(d_cos, lit, const.shininess)
+
+
+def _cook_torrance(surface, l, nl, f, light, const, plan, diffuse_out, specular_out, first):
+    """One light's Cook–Torrance terms (:mod:`~phonglab.core.microfacet`), added to the outputs.
+
+    With ``s = (1 − v·h)⁵`` Schlick's ``F = F₀ + (1 − F₀) s`` is linear in
+    ``s``, so each term is a sum of constant colours times per-point weights:
+
+    - diffuse ``k_d ∘ I_d ∘ (1 − m)(1 − F₀) · (1 − s)(n·l) f_l``;
+    - specular ``k_s ∘ I_s ∘ (F₀ + (1 − F₀) s) · π D (n·l)V f_l``.
+
+    Both are exactly 0 where ``n·l ≤ 0`` or ``n·v ≤ 0``, and where ``v`` or
+    ``h`` is zero (the eye on the point, ``l = −v``).
+    """
+    dtype = const.dtype
+    zero = dtype.type(0)
+    n, v, nv = surface.n, surface.v, surface.nv
+    # the half vector: constant for a directional light and an infinite viewer
+    h, h_zero = light.h, light.h_zero
+    if h is None:
+        h, h_len = normalize_c(np.add(l, v))
+        h_zero = h_len.min() == 0
+    # one-sided: both cosines positive
+    lit = (nl > zero) & (nv > zero)
+    if surface.v_zero:
+        lit &= surface.v_len > zero
+    if h_zero:
+        lit &= dot_c(h, h) > zero
+    # Schlick's (1 − v·h)⁵, with 1 − v·h as half a squared distance
+    d_vh = one_minus_cos_c(v, h)
+    s = d_vh * d_vh
+    s *= s
+    s *= d_vh
+    if plan.diffuse:
+        # diffuse: (1 − s)(n·l) f_l, gated
+        w = np.where(lit, (dtype.type(1) - s) * nl, zero)
+        if f is not None:
+            w *= f
+        _accumulate(diffuse_out, w, light.ct_diffuse, first)
+    if plan.specular:
+        # specular: π D (n·l)V f_l, gated; NaN or inf where ungated never reaches the sum
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            lobe = ggx_distribution(one_minus_cos_c(n, h), const.alpha)
+            lobe *= smith_visibility_nl(nl, nv, const.alpha)
+        w = np.where(lit, lobe * dtype.type(np.pi), zero)
+        if f is not None:
+            w *= f
+        _accumulate(specular_out, w, light.ct_f0, first)
+        specular_out += light.ct_grazing * (s * w)
 
 
 def _accumulate(out, weight, rgb, first):
