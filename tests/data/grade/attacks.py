@@ -57,7 +57,7 @@ def shade(point, normal, eye, material, lights):
         os.rename(os.path.join(TARGET, "victim.txt"), os.path.join(TARGET, "renamed.txt"))
         return [1.0, 0.0, 0.0]
     if attack == "run-id":
-        return [1.0 + os.system("id > /dev/null"), 0.0, 0.0]
+        return [1.0 if os.system("id > /dev/null") == 0 else 0.0, 0.0, 0.0]  # 127 << 8: no shell was started
     if attack == "daemon":
         if os.fork() == 0:  # the child: a new session, then a grandchild that outlives the grader
             os.setsid()
