@@ -440,19 +440,13 @@ def remove_stale_folders(folder=None) -> list[str]:
     """
     folder = Path(folder or tempfile.gettempdir())
     removed = []
-    try:
-        entries = list(os.scandir(folder))
-    except OSError:
-        return removed
-    for entry in entries:
-        if not entry.name.startswith(STALE_PREFIXES):
-            continue
+    for path in (p for prefix in STALE_PREFIXES for p in folder.glob(prefix + "*")):
         try:
-            info = entry.stat(follow_symlinks=False)
-        except OSError:
+            info = path.lstat()
+        except OSError:  # removed meanwhile
             continue
-        stale = time.time() - info.st_mtime > STALE_AFTER
-        if stat.S_ISDIR(info.st_mode) and info.st_uid == os.geteuid() and stale:
-            shutil.rmtree(entry.path, ignore_errors=True)
-            removed.append(entry.name)
+        mine = stat.S_ISDIR(info.st_mode) and info.st_uid == os.geteuid()
+        if mine and time.time() - info.st_mtime > STALE_AFTER:
+            shutil.rmtree(path, ignore_errors=True)
+            removed.append(path.name)
     return sorted(removed)
