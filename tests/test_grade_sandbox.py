@@ -1,16 +1,17 @@
-"""The grader's sandbox holds against a student who attacks it: each attack that broke the audit-hook sandbox.
+"""The grader's sandbox holds against a student who attacks it.
 
 Student code runs in a bubblewrap sandbox (``phonglab.teaching.isolation``).
-Each test here is one attack a student made, or one a student could make:
-switching the old audit hook off through ``gc`` and then reading
-``/etc/passwd``, the host's ``/proc/1/cmdline`` and another student's
-folder, damaging a file outside, running a program, leaving a daemon;
-killing the grader (``pidfd_send_signal``, ``kill`` of the parent), from
-``phonglab grade`` and from the page; ``kill -9`` of the grader in the middle
-of a grading; and the bare minimum a machine without the sandbox tool gets:
-a refusal in one line. The tests that could kill the process they run in
-run the grader in a child process.
-"""
+Each test here is an attack a student can make on a grader that relies on
+Python's audit hooks or on a plain child process: switching the hook off
+through ``gc`` and then reading ``/etc/passwd``, the host's
+``/proc/1/cmdline`` and another student's folder, damaging a file outside,
+running a program, leaving a daemon; killing the grader
+(``pidfd_send_signal``, ``kill`` of the parent), from ``phonglab grade``
+and from the page; ``kill -9`` of the grader in the middle of a grading;
+importing or reloading phonglab for the answers (``tests/test_grade.py``);
+and what a machine without the sandbox tool gets: a refusal in one line.
+The tests that could kill the process they run in run the grader in a
+child process."""
 
 from __future__ import annotations
 

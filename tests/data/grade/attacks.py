@@ -1,12 +1,12 @@
 """A shade() that attacks the grader the way a student could; the test fills in the @...@ markers.
 
 The point's x coordinate picks the attack from ATTACKS. Each attack first
-switches the grader's audit hook off, as a student can from Python (the hook
-is a function reachable through gc; its closure's ``busy`` list, made
-non-empty, makes it return early), then tries to leave the sandbox. An
-attack that succeeds returns a colour that says so (a positive red channel,
-or the secret's length); a refused one fails the case with its error.
-"""
+switches off any Python audit hook the grader may rely on (a student can:
+the hook is a function reachable through gc, and one that guards against
+recursion with a ``busy`` list in its closure returns early once that list
+is not empty), then tries to leave the sandbox. An attack that succeeds
+returns a colour that says so (a positive red channel, or the secret's
+length); a refused one fails the case with its error."""
 
 import gc
 import os
