@@ -626,6 +626,7 @@ class LessonApp(TrameApp):
         self.accuracy.close()
         self.exports.close()
         self.pictures.close()
+        self.student_code.close()  # its grading, waiting or running, is cancelled
         if self.view is not None:
             try:
                 self.view.close()

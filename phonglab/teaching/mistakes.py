@@ -65,6 +65,7 @@ __all__ = [
     "attenuated_ambient",
     "spot_cutoff_in_degrees",
     "power_before_max",
+    "zero_to_the_zero",
 ]
 
 
@@ -145,6 +146,15 @@ def specular_lobe_power_first(nl, c, shininess):
     """
     with np.errstate(invalid="ignore"):
         return np.where(nl > 0, np.fmax(c ** shininess, 0), 0)
+
+
+def specular_lobe_zero_power(nl, c, shininess):
+    """WRONG specular weight: ``max(0, c)^α`` where ``n·l > 0``, with no ``c > 0`` test: 1 where ``c ≤ 0`` at α = 0.
+
+    For α > 0 it equals the correct weight; at α = 0, ``0^0 = 1`` lights
+    every lit point. Correct: :func:`specular_lobe`, 0 where ``c ≤ 0``.
+    """
+    return np.where(nl > 0, np.maximum(c, 0) ** shininess, 0)
 
 
 def _with_step(points, normals, shade_args, **step):
@@ -408,6 +418,29 @@ def power_before_max(points, normals, **shade_args):
     return _with_step(points, normals, shade_args, specular_weight=specular_lobe_power_first)
 
 
+def zero_to_the_zero(points, normals, **shade_args):
+    """At α = 0, ``max(0, r·v) ** 0`` is 1 also where ``r·v ≤ 0``: specular on the whole lit side.
+
+    **What is wrong.** The clamp alone is trusted to remove the highlight
+    where ``r`` points away from the eye::
+
+        specular = ks * Is * max(0, dot(r, v)) ** alpha            # wrong at alpha = 0
+
+    That holds for every α > 0, but at α = 0 the clamped 0 is raised to the
+    power 0, and ``0 ** 0`` is 1 (in Python, NumPy and C): every lit point
+    gets the full ``k_s I_s``, a flat pale layer over the whole lit side,
+    instead of a wash that ends where ``r·v`` reaches 0.
+
+    **The correct line.** Where ``r·v ≤ 0`` the specular weight is 0, for
+    every α::
+
+        specular = ks * Is * dot(r, v) ** alpha if dot(r, v) > 0 else 0   # right
+
+    Parameters and returns are those of :func:`phonglab.core.shade`.
+    """
+    return _with_step(points, normals, shade_args, specular_weight=specular_lobe_zero_power)
+
+
 @dataclass(frozen=True)
 class Mistake:
     """A named common mistake, as a lesson's ``mistake = "..."`` refers to it.
@@ -536,6 +569,14 @@ MISTAKES = {
             "specular = ks * Is * max(0, dot(r, v) ** alpha)",
             "specular = ks * Is * max(0, dot(r, v)) ** alpha",
             power_before_max,
+        ),
+        Mistake(
+            "zero-to-the-zero",
+            "0 ** 0 = 1 at shininess α = 0",
+            "At α = 0 the whole lit side gets the full specular layer, also where r points away from the eye.",
+            "specular = ks * Is * max(0, dot(r, v)) ** alpha",
+            "specular = ks * Is * dot(r, v) ** alpha if dot(r, v) > 0 else 0",
+            zero_to_the_zero,
         ),
     )
 }
