@@ -264,6 +264,26 @@ def _area_error(scene, method: str, samples: float) -> float:
     return float(np.sqrt(np.mean(np.square(errors))))
 
 
+def _blocked(scene) -> float:
+    from phonglab.render.mesh import ray_hit
+    from phonglab.render.probe import directed_light_index, locate_probe
+
+    index = directed_light_index(scene.lights)
+    if index is None:
+        raise ValueError("blocked(): the scene has no directed light")
+    mesh = _mesh(scene)
+    point, normal = locate_probe(mesh, scene)
+    light = scene.lights[index]
+    l = core.vectors(point, normal, light=light, eye=scene.camera.eye).l
+    far = getattr(light, "position", None)
+    distance = float(np.linalg.norm(np.asarray(far, np.float64) - point)) if far is not None else math.inf
+    # leave the surface first: start a hair along l, so the probe's own triangle is not the hit
+    size = float(np.linalg.norm(np.ptp(np.asarray(mesh.points), axis=0)))
+    start = np.asarray(point, np.float64) + 1e-6 * size * np.asarray(l, np.float64)
+    hit = ray_hit(mesh, start, start + np.asarray(l, np.float64) * min(distance, 4.0 * size))
+    return float(hit is not None and np.linalg.norm(hit[0] - start) < distance)
+
+
 def _sum_gap(scene, channel: str = "max") -> float:
     terms = _picture(scene).shading
     total = terms.emission + terms.ambient + terms.diffuse + terms.specular
@@ -340,6 +360,7 @@ FUNCTIONS = {
     "area_error": (True, _area_error),
     "area_ratio": (True, _area_ratio),
     "sum_gap": (True, _sum_gap),
+    "blocked": (True, _blocked),
     "shown_mean": (True, _shown_mean),
     "shown_median": (True, _shown_median),
     "shown_peak": (True, _shown_peak),

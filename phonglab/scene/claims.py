@@ -196,11 +196,11 @@ def about_problem(about: str, tree: ast.Expression) -> str | None:
     return None
 
 
-#: words that say what the student sees; a sentence using one is a sentence about the picture
-#: (a light's colour, "white light", is not)
+#: words that say how the picture looks; a sentence using one is a sentence about the picture.
+#: (Words of viewpoint, "the side you see", say nothing about the picture; "white light" is a colour.)
 SEEING_WORDS = re.compile(
-    r"\b(black|white(?! lights?\b)|dark|darker|darkest|bright|brighter|brightest|dim|dimmer|flat|flattens|looks?|see|sees|seen|"
-    r"shows?|shown|visible|glows?|gives back|catch(?:es)? up|clipped|washes out|fades?|pitch)\b",
+    r"\b(black|white(?! lights?\b)|dark|darker|darkest|bright|brighter|brightest|dim|dimmer|flattens|glows?|"
+    r"gives back|catch(?:es)? up|clipped|washes out|fades?|pitch)\b",
     re.IGNORECASE)
 
 
