@@ -80,7 +80,7 @@ def shown(scene, term: str = "color") -> Shown:
     mask = view.gbuffer().mask
     point, _ = view.probe
     x, y = view.to_image(point, image.shape[0])
-    row, col = int(round(y)), int(round(x))
+    row, col = int(np.rint(y)), int(np.rint(x))
     inside = 0 <= row < mask.shape[0] and 0 <= col < mask.shape[1]
     probe = (row, col) if inside and mask[row, col] and _probe_visible(view, point) else None
     return Shown(image=image, mask=mask, probe=probe)
@@ -98,9 +98,3 @@ def levels(picture: Shown, channel: str = "max") -> np.ndarray:
     pixels = picture.image[picture.mask].astype(np.float64)
     return pixels.max(axis=-1) if channel == "max" else pixels[:, "rgb".index(channel)]
 
-
-def close() -> None:
-    """Release the offscreen view and forget the pictures (tests that count windows call it)."""
-    shown.cache_clear()
-    while _view:
-        _view.pop().close()
