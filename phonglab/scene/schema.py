@@ -140,8 +140,12 @@ def table_light_type(table: dict) -> str | None:
 # a lesson's executable claims: [[claims]] tables
 
 #: keys of a ``[[claims]]`` table
-CLAIM_KEYS = ("says", "check", "experiment", "set")
-CLAIM_REQUIRED = ("says", "check")
+CLAIM_KEYS = ("says", "about", "check", "false_when", "experiment", "set")
+CLAIM_REQUIRED = ("says", "about", "check", "false_when")
+#: what a claim speaks of: the model's (linear) numbers, or the picture the page shows
+CLAIM_ABOUT = ("model", "picture")
+#: keys of a claim's ``false_when`` table: how to make its sentence false
+FALSE_WHEN_KEYS = ("set", "replace")
 #: the longest check expression, in characters and in syntax-tree nodes
 CLAIM_MAX_CHARS = 400
 CLAIM_MAX_NODES = 80
@@ -150,6 +154,8 @@ PROBE_QUANTITIES = ("nl", "rv", "nh", "distance", "attenuation", "spot",
                     "ambient", "diffuse", "specular", "emission", "color")
 IMAGE_TERMS = ("ambient", "diffuse", "specular", "emission", "color")
 CHANNELS = ("r", "g", "b", "max")
+#: the pictures the page shows: the sum, or one term (its term buttons)
+SHOWN_TERMS = ("color", "ambient", "diffuse", "specular")
 ERROR_MEASURES = ("rmse", "max_error", "highlight_rmse", "peak_error")
 #: function name -> (argument kinds, meaning). A kind is "number" (any number
 #: expression) or a tuple of allowed words; a trailing "?" kind is optional.
@@ -182,7 +188,24 @@ CLAIM_FUNCTIONS = {
                    "point (the accuracy study's panel and floor, RMS over 4 seeds)"),
     "area_ratio": ((), "point-light approximation over the exact area-light irradiance, directly under the "
                        "panel's centre"),
+    "blocked": ((), "1 when the straight line from the probe to the first directed light crosses the surface "
+                    "(the point would be in its shadow; the model does not look), else 0"),
+    "sum_gap": ((CHANNELS + ("?",),), "the largest difference, over the picture's pixels, between the colour and "
+                                      "the sum of its terms (the model's numbers)"),
+    # the picture the page shows: 8-bit levels 0 to 255 of the pixels the surface covers
+    "shown_mean": ((SHOWN_TERMS, CHANNELS + ("?",)), "the mean level of the picture shown"),
+    "shown_median": ((SHOWN_TERMS, CHANNELS + ("?",)), "the median level of the picture shown"),
+    "shown_peak": ((SHOWN_TERMS, CHANNELS + ("?",)), "the highest level of the picture shown"),
+    "shown_low": ((SHOWN_TERMS, CHANNELS + ("?",)), "the lowest level of the picture shown"),
+    "shown_fraction": ((SHOWN_TERMS, "number", "number", CHANNELS + ("?",)),
+                       "the fraction of the covered pixels whose level lies from lo to hi"),
+    "shown_levels": ((SHOWN_TERMS, CHANNELS + ("?",)), "how many different levels the picture shows"),
+    "shown_probe": ((SHOWN_TERMS, CHANNELS + ("?",)), "the level of the pixel the probe is seen through"),
+    "shown_sum_gap": ((CHANNELS + ("?",),), "the mean difference, in levels, between the picture of the colour "
+                                            "and the sum of the pictures of its terms (clipped to 255)"),
 }
+#: the functions that measure the picture shown: a picture claim calls one, a model claim none
+PICTURE_FUNCTIONS = tuple(name for name in CLAIM_FUNCTIONS if name.startswith("shown_"))
 
 
 # limits: sized for teaching scenes, checked before any expensive step
