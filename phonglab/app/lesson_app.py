@@ -376,8 +376,7 @@ class LessonApp(TrameApp):
         s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
         # probe readout and vector legend
         point, normal = self.view.probe
-        s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
-                                  scene_plan=verdict, mistake=self.view.mistake)
+        s.readout = probe_readout(scene, point, normal, self.view.light_index, mistake=self.view.mistake)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
         s.arrow_tips = client.arrow_tips(self.view.arrow_tips(), s.legend, hidden=self.view.hidden_letters())
         self.accuracy.follow(scene)
