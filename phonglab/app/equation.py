@@ -94,8 +94,9 @@ def symbols(formula) -> str:
         return symbols(operands[1])
     if operator == "mul":
         names = [symbols(x) for x in operands]
-        # f\, k_d I_d ...: a thin space after a lone factor f
-        return " ".join(names).replace("f k_", r"f\, k_", 1)
+        if operands[0] == "f" and len(names) > 1:  # f\, k_d I_d ...: a thin space after the light factor
+            names[0] = r"f\,"
+        return " ".join(names)
     if operator == "add":
         return " + ".join(symbols(x) for x in operands)
     if operator == "div":
