@@ -12,9 +12,7 @@ experiment. The measurement functions see the scene as the page shows it:
   interpolation: one shade per triangle (flat), per vertex blended with the
   barycentric weights (Gouraud) or per pixel with blended normals;
 - the *probe* is the point :func:`phonglab.render.probe.locate_probe` picks,
-  with what the model used there (:func:`phonglab.scene.trace`, the record
-  the readout shows): ``probe('nl')`` is the drawn light's ``n·l``,
-  ``probe('specular')`` the specular term of all lights.
+  with the vectors of :func:`phonglab.render.probe.probe_vectors`.
 
 Colours are the core's unclamped linear values (what the readout shows).
 """
@@ -138,7 +136,11 @@ def _channel(values, channel: str):
 
 @functools.lru_cache(maxsize=64)
 def _probe(scene):
-    """The record of the model at the probe (:func:`phonglab.scene.trace`), its shading, and the light drawn."""
+    """The record of the model at the probe (:func:`phonglab.scene.trace`), its shading, and the light drawn.
+
+    What the readout shows: ``probe('nl')`` is the drawn light's ``n·l`` as
+    the model used it, ``probe('specular')`` the specular term of all lights.
+    """
     from phonglab.render.probe import directed_light_index, locate_probe
     from phonglab.scene import trace
 
