@@ -32,7 +32,7 @@ import numpy as np
 from phonglab.app import equation
 from phonglab.app.text import mathml
 from phonglab.core.display import display_bytes
-from phonglab.core.record import resolve
+from phonglab.core.record import names_in, resolve
 from phonglab.scene import trace
 
 
@@ -225,14 +225,17 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
     shown = record.light(light_index) if light_index is not None and light_index in recorded else None
     several = len(record.lights) > 1
     if shown is not None:
-        out["vectors"] = {"n": _vec_text(record["n"]), **{k: _vec_text(shown[k]) for k in "lr"},
-                          "v": _vec_text(record["v"]), "h": _vec_text(shown["h"])}
+        # the vectors and cosines the model recorded (a model records those it uses)
+        out["vectors"] = {k: _vec_text(record.lookup(k, shown)) for k in "nlrvh"
+                          if k in shown.values or k in record.values}
         out["dots"] = [{"name": name, "tex": mathml(equation.symbol(name)), "value": f"{float(shown[name]):+.3f}"}
-                       for name in ("n·l", "r·v", "n·h")]
+                       for name in ("n·l", "r·v", "n·h") if name in shown.values]
         if several:
             # which light the dots and the equation belong to, and its own terms beside its dots
             out["light_name"] = _name(shown)
-            beside = {"n·l": "diffuse", ("n·h" if record.model == "blinn-phong" else "r·v"): "specular"}
+            # the specular term beside the cosine its formula reads (r·v for Phong, n·h for Blinn-Phong)
+            cosine = next((x for x in names_in(shown.terms["specular"]) if x in ("r·v", "n·h")), None)
+            beside = {"n·l": "diffuse", cosine: "specular"}
             for dot in out["dots"]:
                 term = beside.get(dot["name"])
                 if term is not None:
