@@ -156,22 +156,38 @@ def _channel(values, channel: str):
 
 @functools.lru_cache(maxsize=64)
 def _probe(scene):
-    from phonglab.render.probe import directed_light_index, locate_probe, probe_vectors
+    """The record of the model at the probe (:func:`phonglab.scene.trace`), its shading, and the light drawn.
+
+    What the readout shows: ``probe('nl')`` is the drawn light's ``n·l`` as
+    the model used it, ``probe('specular')`` the specular term of all lights.
+    """
+    from phonglab.render.probe import directed_light_index, locate_probe
+    from phonglab.scene import trace
 
     point, normal = locate_probe(_mesh(scene), scene)
-    vec, _ = probe_vectors(scene, point, normal, directed_light_index(scene.lights))
-    shading = _shade(scene, np.asarray([point], float), np.asarray([normal], float))
-    return vec, shading
+    shading, record = trace(scene, np.asarray([point], float), np.asarray([normal], float))
+    return record.at(0), shading, directed_light_index(scene.lights)
+
+
+#: a claim's name for a quantity at the probe -> the record's name
+_PROBE_NAMES = {"nl": "n·l", "rv": "r·v", "nh": "n·h", "distance": "d"}
 
 
 def _probe_value(scene, quantity: str, channel: str = "max") -> float:
-    vec, shading = _probe(scene)
+    record, shading, index = _probe(scene)
     if quantity in _TERMS:
         return float(_channel(getattr(shading, quantity)[0], channel))
-    if vec is None:
+    if index is None:
         raise ValueError(f"probe({quantity!r}): the scene has no directed light")
-    value = getattr(vec, quantity)
-    return math.nan if value is None else float(value)
+    light = record.light(index)
+    name = _PROBE_NAMES.get(quantity, quantity)
+    if name in light.values and np.ndim(light[name]) == 0:
+        return float(light[name])
+    if name in ("attenuation", "spot"):
+        return 1.0  # a directional light (or a point light, for the spot factor) has none
+    if name == "d":
+        return math.nan  # a directional light has no distance
+    raise ValueError(f"probe({quantity!r}): not a number the model records at the probe")
 
 
 def _peak(scene, term: str, channel: str = "max") -> float:

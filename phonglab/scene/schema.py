@@ -33,18 +33,91 @@ RESOLUTION_RANGE = (3, 1024)
 AREA_METHODS = core.AREA_METHODS
 #: Monte Carlo samples per point of an area light
 AREA_SAMPLES_RANGE = (1, 4096)
-#: a scene's options when its file leaves them out
-SCENE_DEFAULTS = {"title": "", "model": "phong", "interpolation": "gouraud", "two_sided": False, "probe": None,
-                  "display": "srgb", "exposure": 1.0}
 #: how linear light is encoded for the screen (see phonglab.core.display)
 DISPLAYS = DISPLAY_ENCODINGS
+
+# ---------------------------------------------------------------------------
+# the scene's fields: one entry each, and what a change of it needs
+
+#: what a change can need, for whoever shows the scene (the view, the page)
+NEEDS = {
+    "mesh": "build the mesh again",
+    "camera": "move the view's camera",
+    "colours": "shade (and encode) the mesh's colours again",
+    "array": "the colours move between per-face and per-vertex arrays: a browser needs the whole view again",
+    "probe": "find the probe on the surface again",
+    "default probe": "a scene without a probe: the default probe, under the eye, moves with the camera",
+    "vectors": "the vectors at the probe (its arrows and numbers) change",
+    "markers": "the light markers and the area light's panel move or change",
+    "eye": "the eye marker moves",
+}
+
+_NO_DEFAULT = object()
+
+
+class SceneField:
+    """One top-level field of a scene: its file key, default, what a change of it needs, its value controls.
+
+    Parameters
+    ----------
+    name : str
+        The field of :class:`~phonglab.scene.Scene` and the key of the scene file.
+    needs : iterable of str
+        What a change of the field needs (keys of :data:`NEEDS`).
+    default : optional
+        The value when a file leaves the key out; a field without a default
+        is a table (built from the file by its own reader) or required.
+    mirrors : tuple of str
+        The field paths that get a value control of their own (the page's
+        state keys for the file form, :func:`phonglab.app.controls.field_mirrors`).
+    """
+
+    __slots__ = ("name", "needs", "default", "mirrors")
+
+    def __init__(self, name: str, needs=(), *, default=_NO_DEFAULT, mirrors=()):
+        unknown = set(needs) - set(NEEDS)
+        if unknown:
+            raise ValueError(f"SceneField {name!r}: unknown needs {sorted(unknown)}; allowed: {', '.join(NEEDS)}")
+        self.name, self.needs, self.default, self.mirrors = name, frozenset(needs), default, tuple(mirrors)
+
+    @property
+    def option(self) -> bool:
+        """A plain value with a default (``model``, ``exposure``), not a table."""
+        return self.default is not _NO_DEFAULT
+
+    def __repr__(self) -> str:
+        return f"SceneField({self.name!r}, needs={sorted(self.needs)})"
+
+
+#: Every top-level field of a scene, in the order of the file format. A new field is one entry here (and
+#: its attribute of Scene, whose default this gives); the file keys, the defaults, what the view and the
+#: page redo on a change (Scene.changes) and the field's value controls all follow from it.
+SCENE_FIELDS = (
+    SceneField("title", default=""),
+    SceneField("model", {"colours"}, default="phong", mirrors=("model",)),
+    SceneField("interpolation", {"colours", "array"}, default="gouraud", mirrors=("interpolation",)),
+    SceneField("two_sided", {"colours", "vectors"}, default=False, mirrors=("two_sided",)),
+    SceneField("probe", {"probe", "vectors"}, default=None, mirrors=("probe",)),
+    SceneField("display", {"colours"}, default="srgb", mirrors=("display",)),
+    SceneField("exposure", {"colours"}, default=1.0, mirrors=("exposure",)),
+    SceneField("geometry", {"mesh", "colours", "probe", "vectors"}),
+    SceneField("material", {"colours"}, mirrors=tuple(f"material.{k}" for k in
+                                                      ("ka", "kd", "ks", "shininess", "emission"))),
+    SceneField("lights", {"colours", "vectors", "markers"}),
+    SceneField("camera", {"camera", "colours", "default probe", "vectors", "markers", "eye"},
+               mirrors=("camera.infinite_viewer",)),
+    SceneField("area_light", {"colours", "markers"}),
+)
+#: field name -> its entry
+SCENE_FIELD = {f.name: f for f in SCENE_FIELDS}
+#: a scene's options when its file leaves them out
+SCENE_DEFAULTS = {f.name: f.default for f in SCENE_FIELDS if f.option}
 
 # ---------------------------------------------------------------------------
 # which keys each table allows
 
 #: keys of a scene file's top level
-SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "display", "exposure", "geometry", "material",
-              "lights", "camera", "area_light")
+SCENE_KEYS = tuple(f.name for f in SCENE_FIELDS)
 #: further top-level keys of a lesson's front matter
 LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake", "claims", "check")
 GEOMETRY_KEYS = ("kind", "resolution", "name", "path")

@@ -72,6 +72,7 @@ from phonglab.teaching.grade_cases import GROUPS, Case, Group
 from phonglab.teaching import MISTAKES
 from phonglab.teaching.sandbox import (Cancel, Cancelled, Limits, LoadError, Outcome, Sandbox,
                                        SandboxUnavailable, StudentFile, cancelled_by)
+from phonglab.teaching.worked import worked_lines
 
 __all__ = [
     "GROUPS", "Case", "Group", "CaseResult", "Diagnosis", "GroupResult", "Report",
@@ -386,6 +387,7 @@ def group_text(g: GroupResult) -> str:
         errors = sorted({c.error for c in g.cases if c.error and c.error != worst.error})
         for e in errors[:3]:
             lines.append(f"    also: {e}")
+        lines += ["    worked answer (what the model used):"] + [f"      {x}" for x in worked_lines(worst.case)]
     d = g.diagnosis
     if d is not None:
         lines.append(f"  diagnosis: this looks like the mistake \"{d.name}\" ({d.title}), matching "
@@ -393,6 +395,9 @@ def group_text(g: GroupResult) -> str:
         lines.append(f"    wrong: {d.wrong}")
         lines.append(f"    right: {d.right}")
         lines.append(f"    what it looks like: {d.looks_like}")
+        if worst is not None:
+            lines += ["    that mistake's answer to the worst case:"] + [
+                f"      {x}" for x in worked_lines(worst.case, MISTAKES[d.name])]
         for name in d.equally:
             m = wording(name)
             lines.append(f"  or, with the same numbers in every case here, the mistake \"{name}\" ({m.title})")

@@ -85,6 +85,9 @@ def lambert_unclamped(nl):
     return nl
 
 
+lambert_unclamped.formula = "n·l"
+
+
 def specular_lobe_ungated(nl, c, shininess):
     """WRONG specular weight: ``max(0, c)^α`` wherever ``c > 0``, whatever the sign of ``n·l``.
 
@@ -93,12 +96,18 @@ def specular_lobe_ungated(nl, c, shininess):
     return np.where(c > 0, np.maximum(c, 0) ** shininess, 0)
 
 
+specular_lobe_ungated.formula = ("if", ("c",), ("pow", ("max0", "c"), "α"))
+
+
 def specular_lobe_zero_exponent(nl, c, shininess):
     """WRONG specular weight: ``max(0, c)^0``, which is 1 at every lit point (0^0 = 1 too).
 
     Correct: :func:`specular_lobe`, with the material's α.
     """
     return np.where(nl > 0, np.maximum(c, 0) ** 0.0, 0)
+
+
+specular_lobe_zero_exponent.formula = ("if", ("n·l",), ("pow", ("max0", "c"), 0))
 
 
 def reflect_reversed(l, n):
@@ -126,6 +135,9 @@ def ambient_attenuated(ka_ia, f_lights):
     return ka_ia * f_lights[0] if f_lights else ka_ia
 
 
+ambient_attenuated.formula = ("mul", "f_lamp", "k_a", "I_a")  # with no lamp the record shows the value
+
+
 def spot_cone_degrees(cos_axis, *, cutoff, exponent):
     """WRONG spotlight cone: ``−l·s ≥ cutoff``, a cosine against an angle in degrees (correct: :func:`spot_cone`).
 
@@ -148,6 +160,9 @@ def specular_lobe_power_first(nl, c, shininess):
         return np.where(nl > 0, np.fmax(c ** shininess, 0), 0)
 
 
+specular_lobe_power_first.formula = ("if", ("n·l",), ("max0", ("pow", "c", "α")))
+
+
 def specular_lobe_zero_power(nl, c, shininess):
     """WRONG specular weight: ``max(0, c)^α`` where ``n·l > 0``, with no ``c > 0`` test: 1 where ``c ≤ 0`` at α = 0.
 
@@ -155,6 +170,9 @@ def specular_lobe_zero_power(nl, c, shininess):
     every lit point. Correct: :func:`specular_lobe`, 0 where ``c ≤ 0``.
     """
     return np.where(nl > 0, np.maximum(c, 0) ** shininess, 0)
+
+
+specular_lobe_zero_power.formula = ("if", ("n·l",), ("pow", ("max0", "c"), "α"))
 
 
 def _with_step(points, normals, shade_args, **step):
