@@ -87,6 +87,10 @@ STUDENTS: dict[str, tuple[str, list[tuple[str, str]]]] = {
         [("if cos_axis >= math.cos(math.radians(light.cutoff)):",
           "if cos_axis >= light.cutoff:  # wrong: a cosine against degrees")],
     ),
+    "zero_to_the_zero.py": (
+        'The textbook loop trusting the clamp alone where r·v <= 0: 0 ** 0 = 1 at α = 0 (mistake "zero-to-the-zero").',
+        [(_SPECULAR, "            specular = max(0.0, rv) ** material.shininess  # wrong at α = 0: 0 ** 0 == 1")],
+    ),
     "power_before_max.py": (
         'The textbook loop raising r·v to α before the max (mistake "power-before-max").',
         [(_SPECULAR, "            specular = max(0.0, rv ** material.shininess)  # wrong: the power before the max")],

@@ -130,9 +130,7 @@ def test_the_panel_follows_the_scenes_display_and_exposure(tmp_path, monkeypatch
         srgb = decode(s.accuracy_view["reference"])
         for key, value, seen in (("display", "linear", ("linear", 1.0)), ("exposure", 0.5, ("linear", 0.5))):
             app._on_control(key, value)
-            if app._panels_handle is not None:  # a refresh the app put off for a running event loop
-                app._panels_handle.cancel()
-                app._deferred_panels()
+            app._later.run_waiting()  # a refresh the app put off for a running event loop
             assert (s.accuracy_view["display"], s.accuracy_view["exposure"]) == seen, (key, value, made[-1])
         dim = decode(s.accuracy_view["reference"])
         lit = np.any(srgb != interpolation.BACKGROUND, axis=-1)

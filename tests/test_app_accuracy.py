@@ -68,9 +68,7 @@ def control(app, key, value) -> None:
     counts as running and the app defers its panels to it.
     """
     app._on_control(key, value)
-    if app._panels_handle is not None:
-        app._panels_handle.cancel()
-        app._deferred_panels()
+    app._later.run_waiting()  # a refresh the app put off for a running event loop
 
 
 def decode(url: str) -> np.ndarray:

@@ -55,9 +55,7 @@ def app():
 def control(app, key, value) -> None:
     """Set a control as the browser would, and run the panel refresh the app may have put off."""
     app._on_control(key, value)
-    if app._panels_handle is not None:
-        app._panels_handle.cancel()
-        app._deferred_panels()
+    app._later.run_waiting()  # a refresh the app put off for a running event loop
 
 
 def open_in_mode(app, number, mode):

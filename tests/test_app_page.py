@@ -189,7 +189,7 @@ def test_readout_numbers_are_the_cores(lessons):
     point = np.array([0.3, 0.4, 0.866])
     normal = point / np.linalg.norm(point)
     v = pl.vectors(point, normal, eye=scene.camera.eye, light=scene.lights[1])
-    out = probe_readout(scene, point, normal, v, 1)
+    out = probe_readout(scene, point, normal, 1)
     shown = {d["name"]: float(d["value"]) for d in out["dots"]}
     assert shown == pytest.approx({"n·l": v.nl, "r·v": v.rv, "n·h": v.nh}, abs=5e-4)
     shading = pl.shade(point[None], normal[None], eye=scene.camera.eye, material=scene.material,
@@ -207,7 +207,7 @@ def test_readout_says_why_a_light_behind_the_surface_adds_nothing(lessons):
     normal = point / np.linalg.norm(point)
     v = pl.vectors(point, normal, eye=scene.camera.eye, light=scene.lights[1])
     assert v.nl < 0
-    out = probe_readout(scene, point, normal, v, 1)
+    out = probe_readout(scene, point, normal, 1)
     assert any("n·l ≤ 0" in note for note in out["notes"]), out["notes"]
     terms = {t["name"]: t["value"] for t in out["terms"]}
     assert terms["diffuse"] == terms["specular"] == "(0.000, 0.000, 0.000)"

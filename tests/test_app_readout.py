@@ -38,7 +38,7 @@ def sheet():
 
 def readout(scene, point, normal, mistake=None):
     v = pl.vectors(point, normal, eye=scene.camera.eye, light=scene.lights[1], two_sided=scene.two_sided)
-    return probe_readout(scene, point, normal, v, 1, mistake=mistake), v
+    return probe_readout(scene, point, normal, 1, mistake=mistake), v
 
 
 def test_ungated_specular_readout_shows_the_pictures_highlight(sheet):
@@ -155,7 +155,7 @@ def test_the_readout_says_its_numbers_are_exact_where_the_picture_interpolates(s
         assert len(said) == 1 and words in said[0], (interpolation, out["notes"])
     # the same with no directed light (the ambient-only readout)
     ambient = scene.replace("lights", [scene_to_dict(scene)["lights"][0]])
-    out = probe_readout(ambient, UNLIT, UP, None, None)
+    out = probe_readout(ambient, UNLIT, UP, None)
     assert (len([n for n in out["notes"] if "evaluated exactly" in n]) == 1) == (words is not None), out["notes"]
 
 
@@ -212,7 +212,7 @@ def lit_by_both(two_lights):
 
 def test_two_lights_the_dots_carry_light_1s_own_terms_from_the_core(lit_by_both):
     scene, normal, v1 = lit_by_both
-    out = probe_readout(scene, ORIGIN, normal, v1, 1)
+    out = probe_readout(scene, ORIGIN, normal, 1)
     assert out["light_name"] == "light 1", out["light_name"]
     dots = {d["name"]: d for d in out["dots"]}
     assert float(dots["n·l"]["value"]) == pytest.approx(v1.nl, abs=5e-4) and float(dots["r·v"]["value"]) == pytest.approx(v1.rv, abs=5e-4)
@@ -238,7 +238,7 @@ def test_two_lights_the_dots_carry_light_1s_own_terms_from_the_core(lit_by_both)
 
 def test_two_lights_the_parts_add_up_to_the_total(lit_by_both):
     scene, normal, v1 = lit_by_both
-    out = probe_readout(scene, ORIGIN, normal, v1, 1)
+    out = probe_readout(scene, ORIGIN, normal, 1)
     (first, with_1), (second, adds_2), (last, total) = parts(out)
     assert (first, second, last) == ("ambient + light 1", "light 2 adds", "total"), out["parts"]
     assert with_1 == pytest.approx(core_terms(scene, normal, [0, 1]).color[0], abs=5e-4)
@@ -267,8 +267,7 @@ def test_two_lights_with_a_mistake_the_parts_are_the_mistaken_codes_and_add_up(l
     scene, normal, _ = lit_by_both
     if attenuated:  # a falloff on light 1, so that f differs from 1 (the attenuated-ambient mistake bites)
         scene = scene.replace("lights[1].attenuation", [1.0, 0.3, 0.0])
-    v1 = pl.vectors(ORIGIN, normal, eye=scene.camera.eye, light=scene.lights[1])
-    out = probe_readout(scene, ORIGIN, normal, v1, 1, mistake=mistake)
+    out = probe_readout(scene, ORIGIN, normal, 1, mistake=mistake)
     got = parts(out)
     total = got[-1][1]
     picture = shade(scene, ORIGIN[None], normal[None], mistake=mistake).color[0]
@@ -288,20 +287,19 @@ def test_two_lights_light_1_behind_under_the_unclamped_diffuse(two_lights):
     v1 = pl.vectors(ORIGIN, n, eye=two_lights.camera.eye, light=two_lights.lights[1])
     v2 = pl.vectors(ORIGIN, n, eye=two_lights.camera.eye, light=two_lights.lights[2])
     assert v1.nl < 0 < v2.nl, (n, v1, v2)
-    out = probe_readout(two_lights, ORIGIN, n, v1, 1, mistake="no-clamp-diffuse")
+    out = probe_readout(two_lights, ORIGIN, n, 1, mistake="no-clamp-diffuse")
     dots = {d["name"]: d for d in out["dots"]}
     assert min(values(dots["n·l"]["term"]["value"])) < 0, dots["n·l"]
     assert any(x.startswith("n·l ≤ 0: light 1 is behind") and "mistaken code gives diffuse" in x for x in out["notes"]), out["notes"]
     assert "correct" in terms(out)["diffuse"], out["terms"]
-    right = probe_readout(two_lights, ORIGIN, n, v1, 1)
+    right = probe_readout(two_lights, ORIGIN, n, 1)
     assert "n·l ≤ 0: light 1 is behind the surface here, so its diffuse and specular are 0." in right["notes"], right["notes"]
 
 
 def test_two_lights_blinn_phong_puts_light_1s_specular_beside_n_dot_h(lit_by_both):
     scene, normal, _ = lit_by_both
     scene = scene.replace("model", "blinn-phong")
-    v1 = pl.vectors(ORIGIN, normal, eye=scene.camera.eye, light=scene.lights[1])
-    out = probe_readout(scene, ORIGIN, normal, v1, 1)
+    out = probe_readout(scene, ORIGIN, normal, 1)
     dots = {d["name"]: d for d in out["dots"]}
     assert "term" not in dots["r·v"] and dots["n·h"]["term"]["name"] == "specular", dots
     alone = pl.shade(ORIGIN[None], normal[None], material=scene.material, lights=(scene.lights[1],),

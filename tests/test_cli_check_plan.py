@@ -25,7 +25,7 @@ def run(capsys, *argv):
 def test_check_good_files_prints_ok_and_exits_0(capsys):
     status, out, err = run(capsys, "check", *GOOD)
     assert status == 0, (out, err)
-    assert out.splitlines() == [f"ok {p}" for p in GOOD], out
+    assert out.splitlines() == [f"ok {GOOD[0]}", f"ok {GOOD[1]} (2 claims hold)"], out
 
 
 def test_check_lists_every_problem_in_every_file(capsys):
@@ -35,7 +35,7 @@ def test_check_lists_every_problem_in_every_file(capsys):
     for path in BAD:
         assert any(line.startswith(f"{path}:") for line in lines), f"{path} missing from:\n{out}"
     assert sum(line.startswith(f"{DATA / 'bad_many.toml'}:") for line in lines) == 8, out
-    assert f"ok {GOOD[0]}" in lines and f"ok {GOOD[1]}" in lines, out
+    assert f"ok {GOOD[0]}" in lines and f"ok {GOOD[1]} (2 claims hold)" in lines, out
     assert "11 problems in 4 of 6 files" in err, err
 
 
@@ -44,7 +44,8 @@ def test_check_a_folder_expands_to_scenes_and_lessons(tmp_path, capsys):
     shutil.copy(DATA / "03-good-lesson.md", tmp_path / "03-good-lesson.md")
     (tmp_path / "README.md").write_text("not a lesson")
     status, out, _ = run(capsys, "check", tmp_path)
-    assert status == 0 and out.splitlines() == [f"ok {tmp_path / 'a.toml'}", f"ok {tmp_path / '03-good-lesson.md'}"], out
+    assert status == 0 and out.splitlines() == [f"ok {tmp_path / 'a.toml'}",
+                                                 f"ok {tmp_path / '03-good-lesson.md'} (2 claims hold)"], out
 
 
 def test_check_missing_file(tmp_path, capsys):

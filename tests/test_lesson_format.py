@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from phonglab.scene import MESH_EXTENSIONS, PYVISTA_MESHES, lesson_files, schema
@@ -135,3 +136,53 @@ def test_every_claim_function_is_documented_and_nothing_else():
 
 def test_the_reference_is_not_a_lesson():
     assert REFERENCE not in lesson_files(REFERENCE.parent)
+
+
+def test_the_claims_keys_say_what_they_allow():
+    row = rows("[[claims]]")
+    for word in schema.CLAIM_ABOUT:
+        assert f'`"{word}"`' in row["about"][3], row["about"]
+    for key in schema.FALSE_WHEN_KEYS:
+        assert f"`{key}" in row["false_when"][3], row["false_when"]
+
+
+AREA_SCENE = """\
+[geometry]
+kind = "plane"
+
+[material]
+ka = 0
+kd = 1
+ks = 0
+shininess = 1
+
+[area_light]
+position = [1.0, 1.0, 0.0]
+edge_u = [1, 0, 0]
+edge_v = [0, 0, 1]
+"""
+
+
+def test_area_light_position_is_the_centre_as_the_reference_says(tmp_path):
+    # the reference says what the position means; the core must light the floor as it says: symmetric
+    # about the position (a corner would make it symmetric about position + edge_u/2)
+    from phonglab import core
+    from phonglab.scene import load_scene
+
+    assert "centre" in rows("[area_light]")["position"][3], rows("[area_light]")["position"]
+    path = tmp_path / "panel.toml"
+    path.write_text(AREA_SCENE)
+    light = load_scene(path).area_light.light
+    up = np.array([0.0, 1.0, 0.0])
+    left, right = np.array([0.6, 0.0, 0.0]), np.array([1.4, 0.0, 0.0])
+    e_left, e_right = (float(core.area_irradiance(light, p, up, method="exact")) for p in (left, right))
+    assert abs(e_left - e_right) < 1e-9 * e_left, (light.position, e_left, e_right)
+    below = float(core.area_irradiance(light, np.array([1.0, 0.0, 0.0]), up, method="exact"))
+    assert below > e_left, (below, e_left)
+
+
+@pytest.mark.parametrize("section, key", [("scene keys", "probe"), ("[[lights]]", "position"), ("[camera]", "eye"),
+                                          ("[camera]", "focal_point"), ("[area_light]", "position")])
+def test_every_position_says_which_point_it_is(section, key):
+    meaning = rows(section)[key][3]
+    assert re.search(r"\b(point|centre|corner)\b", meaning), f"{section}.{key}: {meaning!r} does not say which point"

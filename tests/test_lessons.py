@@ -128,7 +128,7 @@ def test_every_mistake_is_shown_by_some_lesson():
     # the mistakes students make writing the model themselves are taught by the grader's report
     # (phonglab grade) and by `phonglab figure --mistake`; a lesson may show them too
     exercise = {"reflect-wrong-way", "unnormalised-light", "unnormalised-view", "view-from-eye",
-                "attenuated-ambient", "spot-cutoff-in-degrees", "power-before-max"}
+                "attenuated-ambient", "spot-cutoff-in-degrees", "power-before-max", "zero-to-the-zero"}
     assert shown <= set(MISTAKES) and set(MISTAKES) - shown <= exercise, f"mistakes never shown: {set(MISTAKES) - shown}"
 
 

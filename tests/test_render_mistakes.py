@@ -59,6 +59,8 @@ SCENES = {
     ),
     # a plastic sphere: α = 0 puts k_s I_s on every lit point
     "zero-shininess": base(),
+    # the same sphere at α = 0: 0 ** 0 = 1 lights the lit points where r·v < 0 too
+    "zero-to-the-zero": base(material=pl.Material(ka=0.3, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=0)),
     # the lamp near the eye, a broad highlight (α = 4): −r·v lights the rim instead of the middle
     "reflect-wrong-way": base(
         material=pl.Material(ka=0.3, kd=(0.8, 0.3, 0.2), ks=0.6, shininess=4),
@@ -111,6 +113,8 @@ def bites(mistake, scene, points, nl, rv):
         return lit & ((rv > 0.9) | (rv < -0.8)), dark
     if mistake == "power-before-max":
         return lit & (rv < -0.8), rv > 0
+    if mistake == "zero-to-the-zero":
+        return lit & (rv < -0.05), (rv > 0.05) | dark
     if mistake == "unnormalised-light":
         return lit, dark
     if mistake == "unnormalised-view":

@@ -31,6 +31,7 @@ from phonglab.teaching import (
     view_from_eye,
     zero_shininess,
 )
+from phonglab.teaching.mistakes import zero_to_the_zero
 
 TERMS = ("ambient", "diffuse", "specular", "emission", "color")
 MAT = pl.Material(ka=0.2, kd=(0.8, 0.5, 0.3), ks=0.6, shininess=20.0)
@@ -338,7 +339,7 @@ def test_registry_names_each_variant():
                 "reflect-wrong-way": reflect_wrong_way, "unnormalised-light": unnormalised_light,
                 "unnormalised-view": unnormalised_view, "view-from-eye": view_from_eye,
                 "attenuated-ambient": attenuated_ambient, "spot-cutoff-in-degrees": spot_cutoff_in_degrees,
-                "power-before-max": power_before_max}
+                "power-before-max": power_before_max, "zero-to-the-zero": zero_to_the_zero}
     assert set(MISTAKES) == set(expected)
     for name, mistake in MISTAKES.items():
         assert mistake.name == name and mistake.shade is expected[name], name

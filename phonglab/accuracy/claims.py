@@ -15,11 +15,19 @@ experiment. The measurement functions see the scene as the page shows it:
   with the vectors of :func:`phonglab.render.probe.probe_vectors`.
 
 Colours are the core's unclamped linear values (what the readout shows).
+The ``shown_*`` functions measure instead the 8-bit picture the page shows
+(:mod:`phonglab.accuracy.shown`): after the opacity blend, the exposure, the
+clip and the display encoding, in the scene's interpolation mode.
+
+A claim's ``false_when`` is run by :func:`check_false_when`: the same check,
+with the sentence made false, must fail; a check that still passes is too
+weak to tell the sentence from its opposite.
 """
 
 from __future__ import annotations
 
 import ast
+import dataclasses
 import functools
 import math
 import operator
@@ -31,9 +39,10 @@ from phonglab import core
 from phonglab.accuracy import interpolation
 from phonglab.accuracy.arealight import LIGHT
 from phonglab.accuracy.raycast import View, hit_mesh
-from phonglab.scene.claims import parse_check
+from phonglab.accuracy.shown import levels, shown
+from phonglab.scene.claims import parse_check, replaced_check
 
-__all__ = ["ClaimResult", "check_claim", "check_lesson", "FUNCTIONS", "PICTURE_SIZE"]
+__all__ = ["ClaimResult", "check_claim", "check_false_when", "check_lesson", "FUNCTIONS", "PICTURE_SIZE"]
 
 #: width and height, in pixels, of the picture the image measurements use
 PICTURE_SIZE = 160
@@ -56,15 +65,26 @@ class ClaimResult:
     value: object = None
     measured: list = field(default_factory=list)
     error: str = ""
+    #: the settings the check ran under beyond the claim's own (a ``false_when``), as (path, value)
+    changed: tuple = ()
 
     def describe(self) -> str:
         """One line per fact: the lesson, the sentence, the check and every measured value."""
         lines = [f"{self.lesson}: {'ok' if self.passed else 'FAILS'}: {self.says}", f"  check: {self.check}"]
-        lines += [f"  {call} = {value:.6g}" if isinstance(value, float) else f"  {call} = {value}"
-                  for call, value in self.measured]
+        if self.changed:
+            lines.append("  with " + ", ".join(f"{path} = {value}" for path, value in self.changed))
+        lines += [f"  {call} = {_shown_number(value)}" for call, value in self.measured]
         if self.error:
             lines.append(f"  error: {self.error}")
         return "\n".join(lines)
+
+    def measured_text(self) -> str:
+        """The measured values on one line: ``peak('specular') = 0.6, shown_peak('color') = 255``."""
+        return ", ".join(f"{call} = {_shown_number(value)}" for call, value in self.measured) or "nothing measured"
+
+
+def _shown_number(value) -> str:
+    return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
 # ---------------------------------------------------------------------------
@@ -136,22 +156,38 @@ def _channel(values, channel: str):
 
 @functools.lru_cache(maxsize=64)
 def _probe(scene):
-    from phonglab.render.probe import directed_light_index, locate_probe, probe_vectors
+    """The record of the model at the probe (:func:`phonglab.scene.trace`), its shading, and the light drawn.
+
+    What the readout shows: ``probe('nl')`` is the drawn light's ``n·l`` as
+    the model used it, ``probe('specular')`` the specular term of all lights.
+    """
+    from phonglab.render.probe import directed_light_index, locate_probe
+    from phonglab.scene import trace
 
     point, normal = locate_probe(_mesh(scene), scene)
-    vec, _ = probe_vectors(scene, point, normal, directed_light_index(scene.lights))
-    shading = _shade(scene, np.asarray([point], float), np.asarray([normal], float))
-    return vec, shading
+    shading, record = trace(scene, np.asarray([point], float), np.asarray([normal], float))
+    return record.at(0), shading, directed_light_index(scene.lights)
+
+
+#: a claim's name for a quantity at the probe -> the record's name
+_PROBE_NAMES = {"nl": "n·l", "rv": "r·v", "nh": "n·h", "distance": "d"}
 
 
 def _probe_value(scene, quantity: str, channel: str = "max") -> float:
-    vec, shading = _probe(scene)
+    record, shading, index = _probe(scene)
     if quantity in _TERMS:
         return float(_channel(getattr(shading, quantity)[0], channel))
-    if vec is None:
+    if index is None:
         raise ValueError(f"probe({quantity!r}): the scene has no directed light")
-    value = getattr(vec, quantity)
-    return math.nan if value is None else float(value)
+    light = record.light(index)
+    name = _PROBE_NAMES.get(quantity, quantity)
+    if name in light.values and np.ndim(light[name]) == 0:
+        return float(light[name])
+    if name in ("attenuation", "spot"):
+        return 1.0  # a directional light (or a point light, for the spot factor) has none
+    if name == "d":
+        return math.nan  # a directional light has no distance
+    raise ValueError(f"probe({quantity!r}): not a number the model records at the probe")
 
 
 def _peak(scene, term: str, channel: str = "max") -> float:
@@ -244,6 +280,76 @@ def _area_error(scene, method: str, samples: float) -> float:
     return float(np.sqrt(np.mean(np.square(errors))))
 
 
+def _blocked(scene) -> float:
+    from phonglab.render.mesh import ray_hit
+    from phonglab.render.probe import directed_light_index, locate_probe
+
+    index = directed_light_index(scene.lights)
+    if index is None:
+        raise ValueError("blocked(): the scene has no directed light")
+    mesh = _mesh(scene)
+    point, normal = locate_probe(mesh, scene)
+    light = scene.lights[index]
+    l = core.vectors(point, normal, light=light, eye=scene.camera.eye).l
+    far = getattr(light, "position", None)
+    distance = float(np.linalg.norm(np.asarray(far, np.float64) - point)) if far is not None else math.inf
+    # leave the surface first: start a hair along l, so the probe's own triangle is not the hit
+    size = float(np.linalg.norm(np.ptp(np.asarray(mesh.points), axis=0)))
+    start = np.asarray(point, np.float64) + 1e-6 * size * np.asarray(l, np.float64)
+    hit = ray_hit(mesh, start, start + np.asarray(l, np.float64) * min(distance, 4.0 * size))
+    return float(hit is not None and np.linalg.norm(hit[0] - start) < distance)
+
+
+def _sum_gap(scene, channel: str = "max") -> float:
+    terms = _picture(scene).shading
+    total = terms.emission + terms.ambient + terms.diffuse + terms.specular
+    return float(_channel(np.abs(np.asarray(terms.color, np.float64) - total), channel).max())
+
+
+# ---------------------------------------------------------------------------
+# the picture the page shows: 8-bit levels of the covered pixels
+
+
+def _shown_mean(scene, term: str, channel: str = "max") -> float:
+    return float(levels(shown(scene, term), channel).mean())
+
+
+def _shown_median(scene, term: str, channel: str = "max") -> float:
+    return float(np.median(levels(shown(scene, term), channel)))
+
+
+def _shown_peak(scene, term: str, channel: str = "max") -> float:
+    return float(levels(shown(scene, term), channel).max())
+
+
+def _shown_low(scene, term: str, channel: str = "max") -> float:
+    return float(levels(shown(scene, term), channel).min())
+
+
+def _shown_fraction(scene, term: str, lo: float, hi: float, channel: str = "max") -> float:
+    values = levels(shown(scene, term), channel)
+    return float(np.mean((values >= lo) & (values <= hi)))
+
+
+def _shown_levels(scene, term: str, channel: str = "max") -> float:
+    return float(np.unique(levels(shown(scene, term), channel)).size)
+
+
+def _shown_probe(scene, term: str, channel: str = "max") -> float:
+    picture = shown(scene, term)
+    if picture.probe is None:
+        raise ValueError("shown_probe(): the probe is not seen in the picture")
+    pixel = picture.image[picture.probe].astype(np.float64)
+    return float(pixel.max() if channel == "max" else pixel["rgb".index(channel)])
+
+
+def _shown_sum_gap(scene, channel: str = "max") -> float:
+    whole = shown(scene, "color")
+    parts = sum(shown(scene, t).image.astype(np.int64) for t in ("ambient", "diffuse", "specular"))
+    gap = np.abs(whole.image.astype(np.int64) - np.minimum(parts, 255))[whole.mask].astype(np.float64)
+    return float((gap.max(axis=-1) if channel == "max" else gap[:, "rgb".index(channel)]).mean())
+
+
 def _degrees(f):
     return lambda x: f(math.radians(x))
 
@@ -269,6 +375,16 @@ FUNCTIONS = {
     "error": (True, _error),
     "area_error": (True, _area_error),
     "area_ratio": (True, _area_ratio),
+    "sum_gap": (True, _sum_gap),
+    "blocked": (True, _blocked),
+    "shown_mean": (True, _shown_mean),
+    "shown_median": (True, _shown_median),
+    "shown_peak": (True, _shown_peak),
+    "shown_low": (True, _shown_low),
+    "shown_fraction": (True, _shown_fraction),
+    "shown_levels": (True, _shown_levels),
+    "shown_probe": (True, _shown_probe),
+    "shown_sum_gap": (True, _shown_sum_gap),
 }
 
 # ---------------------------------------------------------------------------
@@ -320,15 +436,40 @@ def claim_scene(lesson, claim):
     return scene
 
 
-def check_claim(lesson, claim) -> ClaimResult:
-    """Evaluate one claim of ``lesson`` on its scene."""
+def _run(lesson, claim, check: str, scene, changed=()) -> ClaimResult:
     measured: list = []
     name = f"lesson {lesson.number} ({lesson.path})"
     try:
-        value = _evaluate(parse_check(claim.check).body, claim_scene(lesson, claim), measured)
+        value = _evaluate(parse_check(check).body, scene, measured)
     except (ArithmeticError, ValueError) as exc:
-        return ClaimResult(name, claim.says, claim.check, False, None, measured, f"{type(exc).__name__}: {exc}")
-    return ClaimResult(name, claim.says, claim.check, value is True, value, measured)
+        return ClaimResult(name, claim.says, check, False, None, measured, f"{type(exc).__name__}: {exc}", changed)
+    return ClaimResult(name, claim.says, check, value is True, value, measured, changed=changed)
+
+
+def check_claim(lesson, claim) -> ClaimResult:
+    """Evaluate one claim of ``lesson`` on its scene."""
+    return _run(lesson, claim, claim.check, claim_scene(lesson, claim))
+
+
+def check_false_when(lesson, claim) -> ClaimResult:
+    """Evaluate a claim's check with its sentence made false (its ``false_when``).
+
+    Returns
+    -------
+    ClaimResult
+        ``passed`` is True when the check, as it should, *fails* cleanly
+        (gives False) under the change: the check can tell the sentence from
+        its opposite. A check that still holds, or cannot be evaluated,
+        gives ``passed`` False.
+    """
+    change = claim.false_when
+    check = replaced_check(claim.check, change.replace) if change.replace else claim.check
+    scene = claim_scene(lesson, claim)
+    if change.settings:
+        scene = scene.replace_many(change.settings)
+    changed = tuple(change.settings) + ((("check", check),) if change.replace else ())
+    result = _run(lesson, claim, check, scene, changed)
+    return dataclasses.replace(result, passed=result.value is False and not result.error)
 
 
 def check_lesson(lesson) -> list[ClaimResult]:

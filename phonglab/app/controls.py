@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from phonglab import core
 from phonglab.app.control import Control, ControlError, hex_to_rgb, rgb_to_hex, split_level
 from phonglab.scene import PARAMETRIC_KINDS, SceneError, field_value, parse_path, scene_to_dict
+from phonglab.scene.schema import SCENE_FIELDS
 
 #: term view choices: value shown by the view -> label
 TERMS = (("color", "All terms"), ("ambient", "Ambient"), ("diffuse", "Diffuse"), ("specular", "Specular"))
@@ -351,8 +352,7 @@ def field_mirrors(scene, *, read_field=field_value) -> list[Control]:
     Where a widget edits the same key (``model``, ``lights[1].cutoff``), the
     widget's control is the one to use: see :func:`controls_by_key`.
     """
-    paths = ["material.ka", "material.kd", "material.ks", "material.shininess", "material.emission",
-             "model", "interpolation", "two_sided", "camera.infinite_viewer", "probe", "display", "exposure"]
+    paths = [path for f in SCENE_FIELDS for path in f.mirrors]  # the scene's own (the file format's table)
     for index, light in enumerate(scene.lights):
         base = f"lights[{index}]"
         paths += [f"{base}.color", f"{base}.intensity"]

@@ -18,9 +18,10 @@ picture and the numbers are exact for the camera the drag ended at.
 
 from __future__ import annotations
 
-import asyncio
 import math
 from typing import Callable
+
+from phonglab.app.later import Later
 
 #: the browser camera's keys and the scene camera fields they set
 BROWSER_KEYS = {"position": "camera.eye", "focalPoint": "camera.focal_point", "viewUp": "camera.up",
@@ -86,19 +87,23 @@ class Latest:
     apply : callable
         ``apply(camera, final)``; called from the event loop (or at once
         when there is no running loop, as in scripts and tests).
+    later : phonglab.app.later.Later, optional
+        The tab's put-off work, where the run waits as the job ``"camera"``
+        (a new one when not given).
 
     Notes
     -----
-    :meth:`offer` stores the camera and, if no run is scheduled, schedules
-    one with ``call_soon``. Cameras offered before that run replace each
-    other: only the newest is shaded. ``final`` sticks until the run, so a
-    drag's last camera is never downgraded to an intermediate one.
+    :meth:`offer` stores the camera and asks for a run as soon as the loop
+    is free. Cameras offered before that run replace each other: only the
+    newest is shaded. ``final`` sticks until the run, so a drag's last camera
+    is never downgraded to an intermediate one.
     """
 
-    def __init__(self, apply: Callable):
+    def __init__(self, apply: Callable, later: Later | None = None):
         self._apply = apply
         self._wanted = None
-        self._handle = None
+        self._later = Later() if later is None else later
+        self._later.add("camera", self.run)
         #: cameras offered and cameras applied (dropped = offered - applied)
         self.offered = 0
         self.applied = 0
@@ -108,17 +113,10 @@ class Latest:
         self.offered += 1
         final = bool(final) or bool(self._wanted and self._wanted[1])
         self._wanted = (camera, final)
-        try:
-            loop = asyncio.get_running_loop()
-        except RuntimeError:
-            self.run()
-            return
-        if self._handle is None:
-            self._handle = loop.call_soon(self.run)
+        self._later.ask("camera")
 
     def run(self) -> None:
         """Apply the newest camera (nothing when none is waiting)."""
-        self._handle = None
         wanted, self._wanted = self._wanted, None
         if wanted is not None:
             self.applied += 1
@@ -126,7 +124,5 @@ class Latest:
 
     def cancel(self) -> None:
         """Forget a waiting camera."""
-        if self._handle is not None:
-            self._handle.cancel()
-            self._handle = None
+        self._later.cancel("camera")
         self._wanted = None

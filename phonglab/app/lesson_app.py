@@ -10,10 +10,13 @@ What happens on a change:
 1. the browser sets a control's state key; :meth:`LessonApp._on_control`
    checks the value (:class:`~phonglab.app.controls.Control`) and builds the
    new scene, or refuses it with a visible notice and keeps the old scene;
-2. the view is updated (:meth:`SceneView.update`); if only colours changed,
+2. the view is updated (:meth:`SceneView.update`, which redoes what
+   :meth:`Scene.changes` says the change needs); if only colours changed,
    the new colour bytes alone go to the browser (:mod:`phonglab.app.client`),
    otherwise the local view is synchronised;
-3. the readout, the planner's verdict and the other widgets follow.
+3. the readout, the planner's verdict and the other widgets follow, a
+   moment later (:class:`~phonglab.app.later.Later`: every put-off job of a
+   tab, the newest camera of a drag included, waits there).
 
 The accuracy lesson (``NN-accuracy.md``) also gets the panel of
 :mod:`phonglab.app.accuracy_panel` below the view: the accuracy plot and the
@@ -25,7 +28,6 @@ errors and reports them on the page.
 
 from __future__ import annotations
 
-import asyncio
 import functools
 import logging
 from dataclasses import dataclass, field
@@ -44,11 +46,12 @@ from phonglab.app import address
 from phonglab.app import download
 from phonglab.app.client import MODULE, color_payload
 from phonglab.app.readout import probe_readout
+from phonglab.app.later import Later
 from phonglab.app.pixel_picture import PixelPicture
 from phonglab.app.timing import Stopwatch, record_lap
 from phonglab.render import SceneView, pixel_job
 from phonglab.render.translucency import translucent
-from phonglab.scene import SceneError, load_lesson, load_scene, plan
+from phonglab.scene import Scene, SceneError, load_lesson, load_scene, plan
 from phonglab.scene.loader import lesson_files
 
 log = logging.getLogger(__name__)
@@ -59,8 +62,6 @@ PIXEL_SIZE = (960, 720)
 MAX_PIXEL_SIDE = 1600
 #: seconds between sending a view update and refreshing the panels (lets the update leave first)
 PANEL_DELAY = 0.004
-#: scene fields whose change only recolours the mesh (no geometry, arrow or marker moves)
-COLOUR_ONLY_FIELDS = {"material", "model", "display", "exposure"}
 
 
 def _guarded(method):
@@ -108,15 +109,18 @@ class LessonApp(TrameApp):
         self.controls = ctl.ControlSet(ctl.Frame())  # the open lesson's controls
         self._watched = set()  # state keys with a change handler
         self._notice_serial = 0
-        self._busy = False
-        self._panels_handle = None
+        self._busy = False  # a control's change is being applied
         self._view_ms = (0.0, 0.0)  # wall and CPU ms of a control's update before its deferred panels
         self._camera_moved = False
-        self._turn_unsynced = False  # a turn re-shaded the view and the drag's end has not synchronised it yet
         self._plan = (None, None)  # (scene, plan(scene)): planned once for the view's shading and the panels
         self._pushed = (None, None)  # the last colour push and its colours (a turn sends only what changed)
         self.state[client.SHOWN_KEY] = None  # the hash of the pushed colours the browser shows (it sets it)
-        self._cameras = eye.Latest(self._apply_camera)  # the browser's newest camera, shaded when free
+        # the work put off until the view's update has left for the browser, in this order:
+        # the newest camera (as soon as the loop is free), then the drag's end, then the panels
+        self._later = Later(self._job_failed)
+        self._cameras = eye.Latest(self._apply_camera, self._later)  # the browser's newest camera, shaded when free
+        self._later.add("turn end", self._end_turn, delay=PANEL_DELAY)
+        self._later.add("panels", self._deferred_panels, delay=PANEL_DELAY)
         self.address = address.ViewAddress()  # the settings in the page's address
         self.state.trame__title = "phonglab — the Phong illumination model"
         self._init_state()
@@ -200,9 +204,7 @@ class LessonApp(TrameApp):
             self._mistake = None
             s.mistake, s.mistake_note = None, ""
             s.has_view = self.view is not None
-            if self._panels_handle is not None:  # a refresh for the previous lesson's scene
-                self._panels_handle.cancel()
-                self._panels_handle = None
+            self._later.cancel("panels")  # a refresh for the previous lesson's scene
             self.controls = ctl.ControlSet(ctl.Frame())
             page.build_controls(self.server, [])
             self.accuracy.open(None, None)
@@ -274,22 +276,16 @@ class LessonApp(TrameApp):
         else:
             self.html_view.update()
             self._pushed = (None, None)  # the browser's colours now come from this synchronisation
-            if new_lesson or (old is not None and old.camera != scene.camera):
+            if new_lesson or (old is not None and "camera" in Scene.changes(old, scene)):
                 self.html_view.push_camera()
         self._refresh_pixels()
-        try:
-            loop = asyncio.get_running_loop() if defer_panels else None
-        except RuntimeError:  # no server loop (scripts, tests): refresh at once
-            loop = None
-        if loop is not None:
-            if self._panels_handle is None:
-                self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
+        if defer_panels:
+            self._later.ask("panels")
         else:
             self._refresh_panels()
 
     def _deferred_panels(self) -> None:
         """The refresh :meth:`_show_scene` put off; records the update's server time."""
-        self._panels_handle = None
         clock = Stopwatch()
         try:
             if self.scene is not None:
@@ -376,8 +372,7 @@ class LessonApp(TrameApp):
         s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
         # probe readout and vector legend
         point, normal = self.view.probe
-        s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
-                                  scene_plan=verdict, mistake=self.view.mistake)
+        s.readout = probe_readout(scene, point, normal, self.view.light_index, mistake=self.view.mistake)
         s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
         s.arrow_tips = client.arrow_tips(self.view.arrow_tips(), s.legend, hidden=self.view.hidden_letters())
         self.accuracy.follow(scene)
@@ -435,7 +430,7 @@ class LessonApp(TrameApp):
                 self.notify("error", f"Refused: {exc}. The previous value stays.")
                 self.state[key] = current
                 return
-            colours_only = _changed(self.scene, scene) <= COLOUR_ONLY_FIELDS and scene.interpolation != "pixel"
+            colours_only = Scene.changes(self.scene, scene).colours_only and scene.interpolation != "pixel"
             self.options = options
             self._show_scene(scene, colours_only=colours_only, defer_panels=True)
             if isinstance(self.state.notice, dict) and self.state.notice.get("kind") == "error":
@@ -514,7 +509,7 @@ class LessonApp(TrameApp):
             if moved:
                 self.scene = scene
                 self.view.update(scene, keep_view_angle=True, defer_glyphs=not final, scene_plan=self._planned(scene))
-                self._camera_moved = self._turn_unsynced = True
+                self._camera_moved = True
                 if scene.interpolation != "pixel":
                     self._push_colours(change=True)
                 record_lap("turn", *clock.split())  # a re-shade (not a camera already shown)
@@ -522,35 +517,27 @@ class LessonApp(TrameApp):
             log.exception("camera")
             self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
             return
-        if not moved and not (final and self._turn_unsynced):
+        if not moved and not (final and self.view.glyphs_stale):
             return  # a camera already shown and synchronised (a click, a frame without motion): nothing to refresh
-        self._turn_unsynced = self._turn_unsynced and not final
         # the readout (and at the drag's end the arrows), once the colours have left for the browser
-        try:
-            loop = asyncio.get_running_loop()
-        except RuntimeError:  # no server loop (scripts, tests): at once
-            loop = None
-        if loop is None:
-            self._finish_turn(final)
-        elif final:
-            loop.call_later(PANEL_DELAY, self._finish_turn, True)
-        elif self._panels_handle is None:
-            self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
+        if final:
+            self._later.ask("turn end")
+        self._later.ask("panels")
 
-    def _finish_turn(self, final: bool) -> None:
-        """After a re-shade for the browser's camera: the readout; at the drag's end, arrows, markers, pixels."""
-        try:
-            if self.scene is None or self.view is None:
-                return
-            if final:
-                self.view.refresh_glyphs()
-                self.html_view.update()
-                self._refresh_pixels()
-            self._refresh_panels()
-            self.state.flush()
-        except Exception as exc:
-            log.exception("camera")
-            self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
+    def _end_turn(self) -> None:
+        """The drag's end: the arrows and markers reshaped and synchronised, the per-pixel picture made."""
+        if self.scene is None or self.view is None:
+            return
+        self.view.refresh_glyphs()
+        self.html_view.update()
+        self._refresh_pixels()
+
+    def _job_failed(self, name: str, exc: Exception) -> None:
+        """A put-off job raised: said on the page; the server and the other jobs go on."""
+        log.error("%s failed", name, exc_info=exc)
+        what = {"panels": "refresh the panels"}.get(name, "follow the view's camera")
+        self.notify("error", f"Could not {what}: {type(exc).__name__}: {exc}")
+        self.state.flush()
 
     def _on_view_size(self, view_size=None, **_) -> None:
         """The view's size in the browser: the server window (pixel mode, framing) follows it."""
@@ -620,12 +607,11 @@ class LessonApp(TrameApp):
 
     def close(self) -> None:
         """Release the view's OpenGL resources and this session's trame registrations."""
-        if self._panels_handle is not None:
-            self._panels_handle.cancel()
-            self._panels_handle = None
+        self._later.cancel()
         self.accuracy.close()
         self.exports.close()
         self.pictures.close()
+        self.student_code.close()  # its grading, waiting or running, is cancelled
         if self.view is not None:
             try:
                 self.view.close()
@@ -639,8 +625,3 @@ class LessonApp(TrameApp):
         trame_core.AVAILABLE_SERVERS.pop(self.server.name, None)
         trame_vtk_module.HELPERS_PER_SERVER.pop(self.server.name, None)
 
-
-def _changed(old, new) -> set:
-    """The scene's top-level fields that differ."""
-    names = ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe", "area_light", "display", "exposure")
-    return {name for name in names if getattr(old, name) != getattr(new, name)}

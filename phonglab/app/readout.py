@@ -1,54 +1,39 @@
 """The numbers at the probe point, and the equation with them substituted.
 
-Everything here comes from the core: the vectors and cosines from
-:func:`phonglab.core.vectors`, the terms from :func:`phonglab.scene.shade`
-at the single probe point. This module only formats them (as MathML through
-:func:`phonglab.app.text.mathml`).
+Everything here is the core's record of the sum at the probe
+(:func:`phonglab.scene.trace`: the reference kernel with ``trace=True``):
+the vectors, the cosines, the light factors, each term and the formula it
+was computed by. This module only formats them (the formulas through
+:mod:`phonglab.app.equation`, as MathML through :func:`phonglab.app.text.mathml`);
+it computes no physics, so every worked equation holds with its own numbers.
 
 With a common mistake shown in the picture, the numbers are the ones the
-mistaken code computes (:func:`phonglab.scene.shade` with ``mistake=``, the
-same call that coloured the mesh), and each term that differs carries the
-correct value and the wrong line of code beside the right one.
+mistaken code computes (its own record: the same kernel with one step
+swapped, the code that coloured the mesh), its formulas are the mistaken
+ones, and each term that differs carries the correct value and the wrong line
+of code beside the right one.
 
 The numbers are linear light, as the model computes them; the colour
 swatches are encoded for the display as the picture is (the scene's
 ``display`` and ``exposure``, :func:`phonglab.core.display.display_bytes`).
 
-With more than one directed light, the dot products and the worked equation
-belong to one light, the one whose vectors are drawn: the readout names it
-("light 1"), shows that light's own diffuse and specular beside its n·l and
-r·v (or n·h), and ends the equation with the parts that add up to the total
-(the ambient with light 1, what each other light adds, the total).
+With more than one light (an area light counts), the dot products and the
+worked equation belong to one light, the one whose vectors are drawn: the
+readout names it ("light 1"), shows that light's own diffuse and specular
+beside its n·l and r·v (or n·h), and ends the equation with the parts that
+add up to the total (the ambient with light 1, what each other light adds,
+the total).
 """
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
-from phonglab import core
+from phonglab.app import equation
 from phonglab.app.text import mathml
 from phonglab.core.display import display_bytes
-from phonglab.scene import shade
-
-
-def _num(x: float, digits: int = 2) -> str:
-    text = f"{x:.{digits}f}"
-    return "0" + text[2:] if text.startswith("-0") and float(text) == 0 else text
-
-
-def _alpha(alpha: float) -> str:
-    """The shininess as an exponent: whole numbers without decimals."""
-    return f"{alpha:.0f}" if abs(alpha - round(alpha)) < 5e-3 or alpha >= 100 else f"{alpha:.2f}"
-
-
-def _rgb_tex(rgb, digits: int = 2) -> str:
-    """A colour as one number when grey, else as a triple."""
-    rgb = [float(c) for c in rgb]
-    if max(rgb) - min(rgb) < 0.5 * 10**-digits:
-        return _num(rgb[0], digits)
-    return r"\left(" + ", ".join(_num(c, digits) for c in rgb) + r"\right)"
+from phonglab.core.record import names_in, resolve
+from phonglab.scene import trace
 
 
 def _vec_text(v, digits: int = 3) -> str:
@@ -83,29 +68,80 @@ def _differs(a, b) -> bool:
     return bool(np.any(np.abs(np.asarray(a, dtype=np.float64) - np.asarray(b, dtype=np.float64)) > 5e-4))
 
 
-def _parts(scene, p, n, light_index, part, total, mistake) -> list[tuple[str, np.ndarray]]:
-    """``(name, rgb)``: the shown light with the ambient, what each other directed light adds, and the total.
-
-    Each other light adds what the core computes with it and the ambient lights,
-    less the ambient lights alone. Where a mistake makes the lights' sum differ
-    from the total (the attenuated ambient, say), the other lights are given as
-    one part, the total less the shown light's, so that the parts always add up.
-    """
-    ambients = tuple(light for light in scene.lights if isinstance(light, core.AmbientLight))
-    others = [i for i, light in enumerate(scene.lights)
-              if i != light_index and not isinstance(light, core.AmbientLight)]
-    alone = shade(dataclasses.replace(scene, lights=ambients), p, n, mistake=mistake).color[0]
-    adds = [(f"light {i} adds",
-             shade(dataclasses.replace(scene, lights=ambients + (scene.lights[i],)), p, n, mistake=mistake).color[0]
-             - alone) for i in others]
-    if _differs(part.color[0] + sum(rgb for _, rgb in adds), total.color[0]):
-        adds = [("the other lights add" if len(others) > 1 else f"light {others[0]} adds",
-                 total.color[0] - part.color[0])]
-    glow = "emission + " if any(part.emission[0]) else ""
-    return [(f"{glow}ambient + light {light_index}", part.color[0]), *adds, ("total", total.color[0])]
+def _name(light) -> str:
+    """How the page names a recorded light: ``light 1``, or ``area light``."""
+    return "area light" if light.index is None else f"light {light.index}"
 
 
-def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None, mistake=None) -> dict:
+def _sum_tex(values) -> str:
+    """Recorded values added up, as LaTeX (a negative one in brackets)."""
+    texts = [equation.value(x) for x in values]
+    return " + ".join(rf"\left({t}\right)" if t.startswith("-") and i else t for i, t in enumerate(texts))
+
+
+def _worked(formula, lookup, result) -> str:
+    """``symbols = numbers = result`` for one recorded formula (the gates resolved by the core)."""
+    written = equation.symbols(formula)
+    substituted = equation.numbers(resolve(formula, lookup), lookup)
+    result = equation.value(result)
+    return f"{written} = {result}" if substituted == result else f"{written} = {substituted} = {result}"
+
+
+def _lookup(record, light=None):
+    return lambda name: record.lookup(name, light)
+
+
+def _rows(record, color, shown, several: bool) -> tuple[list[tuple[str, str]], list[tuple[str, np.ndarray]]]:
+    """The worked equation's rows ``(label, tex)`` and the parts that add up to the total ``(name, rgb)``."""
+    glow = bool(np.any(record["emission"]))
+    base_tex = (["k_e"] if glow else []) + [equation.symbols(record.terms["ambient"])]
+    base = ([record["emission"]] if glow else []) + [record["ambient"]]
+    others = [lr for lr in record.lights if lr is not shown]
+    # the model, in the formulas the (possibly mistaken) code used
+    lights_tex = []
+    if shown is not None:
+        own = " + ".join(equation.symbols(shown.terms[t]) for t in shown.terms)
+        directed = sum(lr.index is not None for lr in record.lights)
+        lights_tex.append(rf"\sum_l \left[{own}\right]" if directed > 1 else own)
+    lights_tex += [equation.symbols(lr.terms[t]) for lr in others if lr.index is None for t in lr.terms]
+    rows = [("model", "I = " + " + ".join(base_tex + lights_tex))]
+    rows.append(("ambient", _worked(record.terms["ambient"], _lookup(record), record["ambient"])))
+    if glow:
+        rows.append(("emission", _worked(record.terms["emission"], _lookup(record), record["emission"])))
+    if shown is not None:
+        rows += [(t, _worked(shown.terms[t], _lookup(record, shown), shown[t])) for t in shown.terms]
+    if not several:
+        # one light (or none): its terms added to the ambient (and emission)
+        for lr in others:
+            rows += [(_name(lr), _worked(lr.terms[t], _lookup(record, lr), lr[t])) for t in lr.terms]
+        addends = base + [lr[t] for lr in record.lights for t in lr.terms]
+        if len(addends) > 1:
+            rows.append(("sum", f"I = {_sum_tex(addends)} = {equation.value(color)}"))
+        return rows, []
+    # several lights: the shown light with the ambient, what each other light adds, the total
+    first = base + ([shown[t] for t in shown.terms] if shown is not None else [])
+    first_value = np.sum(first, axis=0)
+    first_name = ("emission + " if glow else "") + "ambient" + (f" + {_name(shown)}" if shown is not None else "")
+    first_tex = " + ".join(base_tex + ([rf"\text{{{_name(shown)}}}"] if shown is not None else []))
+    label = _name(shown) if shown is not None else "ambient"
+    rows.append((label, f"{first_tex} = {_sum_tex(first)} = {equation.value(first_value)}"))
+    parts = [(first_name, first_value)]
+    for lr in others:
+        name = _name(lr)
+        if len(lr.terms) == 1:
+            (t,) = lr.terms
+            worked = _worked(lr.terms[t], _lookup(record, lr), lr["adds"])
+        else:
+            worked = (" + ".join(equation.symbols(t) if t in equation.SYMBOLS else rf"\text{{{t}}}" for t in lr.terms)
+                      + f" = {_sum_tex([lr[t] for t in lr.terms])} = {equation.value(lr['adds'])}")
+        rows.append((name, rf"\text{{{name}}}: {worked}"))
+        parts.append((f"{name} adds", lr["adds"]))
+    rows.append(("total", f"I = {_sum_tex([rgb for _, rgb in parts])} = {equation.value(color)}"))
+    parts.append(("total", color))
+    return rows, parts
+
+
+def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
     """The readout beside the view, as plain data.
 
     Parameters
@@ -113,40 +149,48 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
     scene : Scene
     point, normal : (3,) arrays
         The probe and the unit normal there.
-    vectors : core ProbeVectors or None
-        From the view (None when the scene has no directed light).
     light_index : int or None
-        The light the vectors refer to.
-    scene_plan : phonglab.scene.ScenePlan, optional
-        The scene's plan when it is already made (:func:`phonglab.scene.plan`).
+        The light whose vectors are drawn (a point, directional or spot light
+        of ``scene.lights``); None when the scene has none.
     mistake : str, optional
         The common mistake the picture shows (a name from
-        :data:`phonglab.teaching.MISTAKES`): the terms and the equation's
-        results are then the mistaken code's.
+        :data:`phonglab.teaching.MISTAKES`): the numbers and formulas are then
+        the mistaken code's.
 
     Returns
     -------
     dict
-        ``point``, ``dots`` (list of {name, html, value}), ``terms`` (list of
+        ``point``, ``dots`` (list of {name, tex, value}), ``terms`` (list of
         {name, value, hex}, with ``correct`` and ``correct_hex`` where a
-        mistake changes the term), ``equation`` (MathML), ``notes`` (list of
+        mistake changes the term), ``equation`` (HTML: one row per worked
+        formula, each ``symbols = numbers = value``), ``notes`` (list of
         str; in flat and Gouraud mode the last one says the numbers are exact
-        at the probe while the picture is not, :data:`INTERPOLATION_NOTES`), ``vectors`` (letter -> "(x, y, z)"), ``display_note``, and
+        at the probe while the picture is not, :data:`INTERPOLATION_NOTES`),
+        ``vectors`` (letter -> "(x, y, z)"), ``display_note``, and
         ``mistake`` (None or {name, title, wrong, right}), ``light_name``
-        (``"light 1"`` when the scene has more than one directed light, else
-        None) and ``parts`` (with more than one directed light: {name, value,
-        hex} for the ambient with the shown light, what each other light adds,
-        and the total; else empty). With more than one directed light, the dot
-        n·l carries the shown light's diffuse and r·v (n·h for Blinn-Phong)
-        its specular as ``term`` ({name, value, hex}).
+        (``"light 1"`` when the scene has more than one light, else None) and
+        ``parts`` (with more than one light: {name, value, hex} for the
+        ambient with the shown light, what each other light adds, and the
+        total; else empty). With more than one light, the dot n·l carries the
+        shown light's diffuse and r·v (n·h for Blinn-Phong) its specular as
+        ``term`` ({name, value, hex}).
+
+    Notes
+    -----
+    Every number comes from the record of :func:`phonglab.scene.trace` at
+    the probe; each row of the equation is a formula of that record with its
+    own values substituted, so it holds to the digits shown.
     """
     p = np.asarray(point, dtype=np.float64).reshape(1, 3)
     n = np.asarray(normal, dtype=np.float64).reshape(1, 3)
-    correct = shade(scene, p, n, scene_plan=scene_plan)
-    # with a mistake on, the numbers that made the picture: the same call as the mesh's colours
-    total = correct if mistake is None else shade(scene, p, n, mistake=mistake)
-    material = scene.material
-    ambients = [light for light in scene.lights if isinstance(light, core.AmbientLight)]
+    correct, right = trace(scene, p, n)
+    right = right.at(0)
+    total, record = correct, right
+    if mistake is not None:
+        # the numbers that made the picture: the mistaken kernel's own record
+        with np.errstate(over="ignore", invalid="ignore"):
+            total, record = trace(scene, p, n, mistake=mistake)
+        record = record.at(0)
     out = {
         "point": _vec_text(p[0]),
         "dots": [],
@@ -170,106 +214,74 @@ def probe_readout(scene, point, normal, vectors, light_index, *, scene_plan=None
         if name == "emission" and not any(rgb):
             continue
         term = {"name": "total" if name == "color" else name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)}
-        right = getattr(correct, name)[0]
-        if mistake is not None and _differs(rgb, right):
+        right_rgb = getattr(correct, name)[0]
+        if mistake is not None and _differs(rgb, right_rgb):
             # the correct value next to the mistaken one, with the line of code that differs
-            term.update(correct=_rgb_text(right), correct_hex=swatch_hex(scene, right),
+            term.update(correct=_rgb_text(right_rgb), correct_hex=swatch_hex(scene, right_rgb),
                         wrong=out["mistake"]["wrong"], right=out["mistake"]["right"])
         out["terms"].append(term)
-    if vectors is None:
-        out["notes"].append("No point, directional or spot light: only the ambient term is lit.")
-        ia = [sum(light.ambient_rgb[i] for light in ambients) for i in range(3)]
-        out["equation"] = mathml(
-            rf"I = k_a I_a = {_rgb_tex(material.ka)} \cdot {_rgb_tex(ia)} = {_rgb_tex(total.color[0])}",
-            display=True,
-        )
-        if scene.interpolation in INTERPOLATION_NOTES:
-            out["notes"].append(INTERPOLATION_NOTES[scene.interpolation])
-        return out
-    blinn = scene.model == "blinn-phong"
-    out["vectors"] = {k: _vec_text(getattr(vectors, k)) for k in "nlrvh"}
-    out["dots"] = [
-        {"name": "n·l", "tex": mathml(r"n\cdot l"), "value": f"{vectors.nl:+.3f}"},
-        {"name": "r·v", "tex": mathml(r"r\cdot v"), "value": f"{vectors.rv:+.3f}"},
-        {"name": "n·h", "tex": mathml(r"n\cdot h"), "value": f"{vectors.nh:+.3f}"},
-    ]
-    light = scene.lights[light_index]
-    # the shown light's own terms, from the core (the mistaken code with a mistake on), with the ambient lights
-    one = dataclasses.replace(scene, lights=tuple(ambients) + (light,))
-    part = shade(one, p, n, mistake=mistake)
-    several = len(scene.lights) - len(ambients) > 1
-    if several:
-        # which light the dots and the equation belong to, and its own terms beside its dots
-        out["light_name"] = f"light {light_index}"
-        parts = _parts(scene, p, n, light_index, part, total, mistake)
-        out["parts"] = [{"name": name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)} for name, rgb in parts]
-        specular_dot = "n·h" if blinn else "r·v"
-        for dot in out["dots"]:
-            term = {"n·l": "diffuse", specular_dot: "specular"}.get(dot["name"])
-            if term is not None:
-                rgb = getattr(part, term)[0]
-                dot["term"] = {"name": term, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)}
-    f = vectors.attenuation * vectors.spot
-    ia = [sum(a.ambient_rgb[i] for a in ambients) for i in range(3)]
-    cosine, cos_tex = (vectors.nh, r"n\cdot h") if blinn else (vectors.rv, r"r\cdot v")
-    alpha = material.shininess
-    ka, kd, ks = (_rgb_tex(c) for c in (material.ka, material.kd, material.ks))
-    f_tex, nl_tex = _num(f, 3), _num(max(0.0, vectors.nl), 3)
-    # the substituted numbers the mistaken code uses where its line differs
-    if mistake == "no-clamp-diffuse":
-        nl_tex = _num(vectors.nl, 3)
-    elif mistake == "zero-shininess":
-        alpha = 0.0
-    # one row per term: the symbols, the numbers, the core's value
-    rows = [
-        ("model", rf"I = k_a I_a + f\left[k_d I_d \max(0, n\cdot l) + k_s I_s \max(0, {cos_tex})^{{\alpha}}\right]"),
-        ("ambient", rf"k_a I_a = {ka} \cdot {_rgb_tex(ia)} = {_rgb_tex(part.ambient[0], 3)}"),
-        ("diffuse", rf"f\, k_d I_d \max(0, n\cdot l) = {f_tex} \cdot {kd} \cdot {_rgb_tex(light.diffuse_rgb)} "
-                    rf"\cdot {nl_tex} = {_rgb_tex(part.diffuse[0], 3)}"),
-        ("specular", rf"f\, k_s I_s \max(0, {cos_tex})^{{\alpha}} = {f_tex} \cdot {ks} \cdot "
-                     rf"{_rgb_tex(light.specular_rgb)} \cdot {_num(max(0.0, cosine), 3)}^{{{_alpha(alpha)}}} "
-                     rf"= {_rgb_tex(part.specular[0], 3)}"),
-    ]
-    if any(part.emission[0]):
-        rows.append(("emission", rf"k_e = {_rgb_tex(part.emission[0], 3)}"))
-    if not several:
-        rows.append(("sum", rf"I = {_rgb_tex(part.color[0], 3)}"))
-    else:
-        # the parts that add up to the total: the ambient with this light, each other light, the sum
-        *shown, (_, whole) = parts
-        glow = "k_e + " if any(part.emission[0]) else ""
-        rows.append((out["light_name"], rf"{glow}k_a I_a + \text{{{out['light_name']}}} = {_rgb_tex(part.color[0], 3)}"))
-        rows += [(name.removesuffix(" adds") if name.startswith("light") else "others",
-                  rf"\text{{{name}}}\ {_rgb_tex(rgb, 3)}") for name, rgb in shown[1:]]
-        rows.append(("total", "I = " + " + ".join(_rgb_tex(rgb, 3) for _, rgb in shown)
-                     + rf" = {_rgb_tex(whole, 3)}"))
+
+    recorded = [lr.index for lr in record.lights]
+    shown = record.light(light_index) if light_index is not None and light_index in recorded else None
+    several = len(record.lights) > 1
+    if shown is not None:
+        # the vectors and cosines the model recorded (a model records those it uses)
+        out["vectors"] = {k: _vec_text(record.lookup(k, shown)) for k in "nlrvh"
+                          if k in shown.values or k in record.values}
+        out["dots"] = [{"name": name, "tex": mathml(equation.symbol(name)), "value": f"{float(shown[name]):+.3f}"}
+                       for name in ("n·l", "r·v", "n·h") if name in shown.values]
+        if several:
+            # which light the dots and the equation belong to, and its own terms beside its dots
+            out["light_name"] = _name(shown)
+            # the specular term beside the cosine its formula reads (r·v for Phong, n·h for Blinn-Phong)
+            cosine = next((x for x in names_in(shown.terms["specular"]) if x in ("r·v", "n·h")), None)
+            beside = {"n·l": "diffuse", cosine: "specular"}
+            for dot in out["dots"]:
+                term = beside.get(dot["name"])
+                if term is not None:
+                    dot["term"] = {"name": term, "value": _rgb_text(shown[term]), "hex": swatch_hex(scene, shown[term])}
+    rows, parts = _rows(record, total.color[0], shown, several)
+    out["parts"] = [{"name": name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)} for name, rgb in parts]
     out["equation"] = "".join(
         f'<div class="eq-row"><span class="eq-label">{label}</span>{mathml(tex)}</div>' for label, tex in rows
     )
-    if several:
+    if several and shown is not None:
         out["equation"] = (f'<div class="phonglab-eq-head">Worked for {out["light_name"]} (its vectors are drawn) '
                            "with the ambient light; the last rows add the other lights.</div>" + out["equation"])
-    if vectors.nl <= 0:
-        who, its = (f"{out['light_name']} is", "its ") if several else ("the light is", "")
-        out["notes"].append(f"n·l ≤ 0: {who} behind the surface here, so "
-                            + (f"{its}diffuse and specular are 0." if mistake is None else
-                               f"correct code gives {its}diffuse and specular 0; the mistaken code gives diffuse "
-                               f"{_rgb_text(part.diffuse[0])} and specular {_rgb_text(part.specular[0])}."))
+    out["notes"] = _notes(scene, right, record, shown, out, mistake)
+    return out
+
+
+def _notes(scene, right, record, shown, out, mistake) -> list[str]:
+    """What the numbers mean here: the mistake, a light behind the surface, f, the flip, the interpolation."""
+    notes = []
     if mistake is not None:
         changed = [t["name"] for t in out["terms"] if "correct" in t]
-        out["notes"].insert(0, f"Deliberately wrong ({out['mistake']['title']}): these are the mistaken code's "
-                               "numbers, the ones that made the picture"
-                            + (f"; {', '.join(changed)} differ from the correct values." if changed
-                               else "; here they equal the correct ones."))
-    if f != 1.0:
-        parts = []
-        if vectors.distance is not None:
-            parts.append(f"distance {vectors.distance:.2f}, attenuation {vectors.attenuation:.3f}")
-        if isinstance(light, core.SpotLight):
-            parts.append(f"spot factor {vectors.spot:.3f}")
-        out["notes"].append((f"For {out['light_name']}, f = " if several else "f = ") + ", ".join(parts) + ".")
-    if vectors.flipped:
-        out["notes"].append("Two-sided lighting flipped the normal: it faced away from the eye.")
+        notes.append(f"Deliberately wrong ({out['mistake']['title']}): these are the mistaken code's "
+                     "numbers, the ones that made the picture"
+                     + (f"; {', '.join(changed)} differ from the correct values." if changed
+                        else "; here they equal the correct ones."))
+    if shown is None:
+        alone = not record.lights
+        notes.append("No point, directional or spot light" + (": only the ambient term is lit." if alone else "."))
+    else:
+        several = out["light_name"] is not None
+        behind = float(right.light(shown.index)["n·l"]) <= 0  # the correct code's n·l: where the light really is
+        if behind:
+            who, its = (f"{out['light_name']} is", "its ") if several else ("the light is", "")
+            notes.append(f"n·l ≤ 0: {who} behind the surface here, so "
+                         + (f"{its}diffuse and specular are 0." if mistake is None else
+                            f"correct code gives {its}diffuse and specular 0; the mistaken code gives diffuse "
+                            f"{_rgb_text(shown['diffuse'])} and specular {_rgb_text(shown['specular'])}."))
+        if float(shown["f"]) != 1.0:
+            factors = []
+            if "d" in shown.values:
+                factors.append(f"distance {float(shown['d']):.2f}, attenuation {float(shown['attenuation']):.3f}")
+            if "spot" in shown.values:
+                factors.append(f"spot factor {float(shown['spot']):.3f}")
+            notes.append((f"For {out['light_name']}, f = " if several else "f = ") + ", ".join(factors) + ".")
+    if bool(right["flipped"]):
+        notes.append("Two-sided lighting flipped the normal: it faced away from the eye.")
     if scene.interpolation in INTERPOLATION_NOTES:
-        out["notes"].append(INTERPOLATION_NOTES[scene.interpolation])
-    return out
+        notes.append(INTERPOLATION_NOTES[scene.interpolation])
+    return notes

@@ -2,8 +2,8 @@
 
 The file defines ``shade(point, normal, eye, material, lights)`` for one
 point (the contract is in :mod:`phonglab.teaching.grading` and in the
-starter that ``phonglab grade --template [PATH]`` writes). It runs in an
-isolated worker process (:mod:`phonglab.teaching.sandbox`) on a fixed set of
+starter that ``phonglab grade --template [PATH]`` writes). It runs in a
+bubblewrap sandbox (:mod:`phonglab.teaching.isolation`) on a fixed set of
 cases in ten groups worth 100 points; the report shows, for every group,
 passed or failed with its points, the worst case with its inputs, expected
 and got, and the common mistake the wrong answers match.
@@ -13,8 +13,9 @@ and got, and the common mistake the wrong answers match.
 and the difference between them.
 
 Exit status: 0 every case passes, 1 some fail, 2 the file cannot be loaded
-(syntax error, import error, no ``shade``: the reason on one line) or bad
-usage.
+(syntax error, import error, no ``shade``: the reason on one line), bad
+usage, or no sandbox on this machine (one line saying what to install:
+student code never runs unisolated).
 """
 
 from __future__ import annotations
@@ -39,8 +40,8 @@ def add_parser(subparsers):
     parser = subparsers.add_parser(
         "grade",
         help="grade a student's shade() for one point against the core",
-        description="Run FILE.py's shade(point, normal, eye, material, lights) on a fixed set of cases in an "
-                    "isolated process and compare it with phonglab.shade (one-sided Phong, local viewer, "
+        description="Run FILE.py's shade(point, normal, eye, material, lights) on a fixed set of cases in a "
+                    "bubblewrap sandbox and compare it with phonglab.shade (one-sided Phong, local viewer, "
                     "float64). Exit status: 0 all pass, 1 some fail, 2 the file cannot be loaded.",
     )
     parser.add_argument("file", nargs="?", metavar="FILE.py", help="the student's file")
@@ -75,6 +76,8 @@ def run(args) -> int:
     started = time.monotonic()
     try:
         report = grading.grade_file(args.file, limits)
+    except grading.SandboxUnavailable as exc:
+        raise UsageError(f"cannot grade: {exc}") from None
     except grading.LoadError as exc:
         reason = " ".join(str(exc).split())
         print(f"phonglab grade: cannot load {args.file}: {reason}", file=sys.stderr)

@@ -54,16 +54,29 @@ label = "Shininess 100"
 text = "Set the shininess to 100. What happens to the size of the highlight?"
 set = {{ "material.shininess" = 100 }}
 
-# Each claim is a sentence of the lesson, executed by the tests on this scene
-# (see lessons/FORMAT.md for the functions a check may call).
+# Each claim is a sentence of the lesson, run on this scene by `phonglab check` and the tests:
+# about the model's numbers ("model") or the picture the page shows ("picture", the shown_*
+# functions); false_when makes the sentence false, and the check must then fail.
+# (See lessons/FORMAT.md for the functions a check may call.)
 [[claims]]
 says = "The highlight's peak is k_s I_s = 0.5."
+about = "model"
 check = "abs(peak('specular') - 0.5) < 0.01"
+false_when = {{ set = {{ "material.ks" = 0.3 }} }}
 
 [[claims]]
-says = "With α = 100 the highlight is smaller: it reflects less light in total."
+says = "With α = 100 the highlight is smaller: it reflects about a fifth of the light it reflects at α = 20."
+about = "model"
 experiment = 1
-check = "mean('specular') < 0.01"
+check = "abs(mean('specular') / 0.0106 - 0.2) < 0.03"
+false_when = {{ set = {{ "material.shininess" = 20 }} }}
+
+[[claims]]
+says = "On the screen the highlight of α = 100 covers a smaller part of the sphere: levels of 20 and up in the specular picture cover under 3 % of it."
+about = "picture"
+experiment = 1
+check = "shown_fraction('specular', 20, 255) < 0.03"
+false_when = {{ set = {{ "material.shininess" = 20 }} }}
 +++
 
 ## What this lesson is about

@@ -52,12 +52,10 @@ def add_parser(subparsers):
                         help=f"browser tabs served at once (default {DEFAULT_MAX_SESSIONS}); "
                              "one more is told the server is full")
     parser.add_argument("--allow-student-code", action="store_true",
-                        help="show the 'Your code' panel: students paste their shade() and it RUNS ON THIS SERVER "
-                             "(remote code execution by design; for a trusted classroom only). Each paste is graded "
-                             "like `phonglab grade`: a separate python -I process in an empty temporary folder, with "
-                             "CPU, memory and time limits, no file writes, no network where a network namespace can "
-                             "be made, and an audit hook refusing files outside its folder, programs, sockets and "
-                             "ctypes. Audit hooks are not a security boundary: run the server in a container too")
+                        help="show the 'Your code' panel: students paste their shade() and it RUNS ON THIS SERVER, "
+                             "graded like `phonglab grade` in a bubblewrap sandbox (own user, PID, network and mount "
+                             "namespaces, a read-only view of only Python and NumPy, a seccomp filter, CPU, memory "
+                             "and time limits), a few at once. Refuses to start when bwrap or libseccomp is missing")
     return parser
 
 
@@ -148,8 +146,8 @@ def run(args) -> int:
         print(f"phonglab serve: warning: listening on {host}: other machines can reach this server",
               file=sys.stderr)
     if args.allow_student_code:
-        print("phonglab serve: warning: --allow-student-code: students' code runs on this server, in the "
-              "grader's sandbox; for a trusted classroom only", file=sys.stderr)
+        _check_student_code()
+    _remove_stale_gradings()
 
     if args.export_dir is not None:
         _clean_export_dir(args.export_dir)
@@ -181,6 +179,31 @@ def _clean_export_dir(folder) -> list[str]:
     if removed:
         print(f"phonglab serve: removed {len(removed)} temporary file(s) an interrupted export left in {folder}: "
               + ", ".join(removed[:5]) + (", …" if len(removed) > 5 else ""), file=sys.stderr)
+    return removed
+
+
+def _check_student_code() -> None:
+    """Refuse ``--allow-student-code`` (one line: what to install) unless the grader's sandbox works here."""
+    from phonglab.app.student_code import grading_slots
+    from phonglab.cli import UsageError
+    from phonglab.teaching.isolation import SandboxUnavailable, check
+
+    try:
+        check()
+    except SandboxUnavailable as exc:
+        raise UsageError(f"--allow-student-code: {exc}") from None
+    print(f"phonglab serve: --allow-student-code: students' code runs on this server in a bubblewrap sandbox, "
+          f"{grading_slots()} at a time", file=sys.stderr)
+
+
+def _remove_stale_gradings() -> list[str]:
+    """Remove students' folders that gradings killed under earlier versions left in the temporary folder."""
+    from phonglab.teaching.isolation import remove_stale_folders
+
+    removed = remove_stale_folders()
+    if removed:
+        print(f"phonglab serve: removed {len(removed)} folder(s) of students' code left by killed gradings",
+              file=sys.stderr)
     return removed
 
 

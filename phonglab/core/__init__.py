@@ -9,7 +9,8 @@ This package imports NumPy only: no PyVista, no trame, no file I/O.
 Modules, by job: :mod:`~phonglab.core.vectors` (unit vectors, dot, reflect,
 the specular power), :mod:`~phonglab.core.model` (materials and lights),
 :mod:`~phonglab.core.physics` (face-forward, attenuation, spot factor),
-:mod:`~phonglab.core.reference` (the model, one light at a time),
+:mod:`~phonglab.core.reference` (the model, one light at a time, and the
+:mod:`~phonglab.core.record` of what it used),
 :mod:`~phonglab.core.plan` and :mod:`~phonglab.core.shading` (the fast
 kernel), :mod:`~phonglab.core.probe` (the vectors at one point),
 :mod:`~phonglab.core.area` (area lights) and :mod:`~phonglab.core.microfacet`
@@ -35,7 +36,8 @@ from .model import (
 from .physics import SPOT_SLACK_ULPS, attenuation, face_forward, facing_away, spot_cos_limit, spot_factor
 from .plan import LightPlan, Plan, plan_effects
 from .probe import ProbeVectors, vectors
-from .reference import Steps, shade_reference
+from .record import LightRecord, Record, add_area_light, ambient_intensity
+from .reference import Steps, lambert, shade_reference, specular_lobe
 from .shading import Shading, shade
 from .vectors import SQUARING_MAX, dot, normalize, one_minus_cos, reflect
 
@@ -45,7 +47,8 @@ __all__ = [
     "light_from_homogeneous", "vec3",
     "SPOT_SLACK_ULPS", "attenuation", "face_forward", "facing_away", "spot_cos_limit", "spot_factor",
     "LightPlan", "Plan", "ProbeVectors", "Shading", "plan_effects", "shade", "vectors",
-    "Steps", "shade_reference",
+    "Steps", "shade_reference", "lambert", "specular_lobe",
+    "LightRecord", "Record", "add_area_light", "ambient_intensity",
     "dot", "normalize", "one_minus_cos", "reflect",
     "AREA_METHODS", "AreaLight", "area_diffuse", "area_irradiance", "polygon_irradiance",
 ]

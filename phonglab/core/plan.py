@@ -15,8 +15,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from .checks import check_model
 from .model import AmbientLight, DirectionalLight, Material, SpotLight
+from .record import ambient_intensity
 
 __all__ = ["Plan", "LightPlan", "plan_effects"]
 
@@ -138,11 +141,7 @@ def plan_effects(
     check_model(model)
     lights = tuple(lights)
     infinite = eye is None
-    ia = [0.0, 0.0, 0.0]
-    for light in lights:
-        if isinstance(light, AmbientLight):
-            ia = [a + b for a, b in zip(ia, light.ambient_rgb)]
-    ambient_rgb = tuple(k * i for k, i in zip(material.ka, ia))
+    ambient_rgb = tuple(float(x) for x in np.asarray(material.ka) * ambient_intensity(lights))
     direct = [(i, lt) for i, lt in enumerate(lights) if not isinstance(lt, AmbientLight)]
 
     computed: list[tuple[str, str]] = []

@@ -2,9 +2,10 @@
 
 Directions point *away from the surface point*: ``n`` the unit normal, ``l``
 towards the light, ``v`` towards the eye, ``r = 2(n·l)n − l``,
-``h = normalize(l + v)``. :func:`vectors` computes them with the same kernels
-and light factors as :func:`~phonglab.core.shade`, so the arrows and numbers
-a lesson shows are those of the picture.
+``h = normalize(l + v)``. :func:`vectors` reads them from the record of the
+reference kernel (:func:`~phonglab.core.shade_reference` with ``trace=True``)
+at that one point, so the arrows and numbers a lesson shows are the vectors
+the model's sum used.
 """
 
 from __future__ import annotations
@@ -14,11 +15,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .checks import viewer
-from .model import AmbientLight, DirectionalLight, InvalidValue, Light, SpotLight, vec3
-from .physics import attenuation, face_forward, facing_away, spot_factor
-from .vectors import dot_c, normalize_c, reflect_c
+from .model import AmbientLight, InvalidValue, Light, Material, vec3
+from .record import Record
+from .reference import shade_reference
 
 __all__ = ["ProbeVectors", "vectors"]
+
+#: any material will do: the vectors do not depend on it
+_MATERIAL = Material(ka=0.0, kd=1.0, ks=1.0, shininess=1.0)
 
 
 @dataclass(frozen=True)
@@ -44,6 +48,22 @@ class ProbeVectors:
     spot: float
     flipped: bool
 
+    @classmethod
+    def of(cls, record: Record, light_index: int) -> ProbeVectors:
+        """The vectors of ``lights[light_index]`` in the record of one point (:meth:`Record.at`)."""
+        light = record.light(light_index)
+
+        def scalar(name, default=None):
+            return float(light.values[name]) if name in light.values else default
+
+        return cls(
+            n=np.array(record["n"], np.float64), l=np.array(light["l"], np.float64),
+            r=np.array(light["r"], np.float64), v=np.array(record["v"], np.float64),
+            h=np.array(light["h"], np.float64),
+            nl=scalar("n·l"), rv=scalar("r·v"), nh=scalar("n·h"), distance=scalar("d"),
+            attenuation=scalar("attenuation", 1.0), spot=scalar("spot", 1.0), flipped=bool(record["flipped"]),
+        )
+
 
 def vectors(point, normal, *, light: Light, eye=None, view_direction=None, two_sided: bool = False) -> ProbeVectors:
     """Unit N, L, R, V, H and the cosines n·l, r·v, n·h at one point.
@@ -64,9 +84,10 @@ def vectors(point, normal, *, light: Light, eye=None, view_direction=None, two_s
     -----
     .. math:: r = 2(n\\cdot l)n - l, \\qquad h = \\frac{l + v}{|l + v|}
 
-    Uses the same kernels and light factors (:func:`~phonglab.core.attenuation`,
-    :func:`~phonglab.core.spot_factor`, :func:`~phonglab.core.face_forward`)
-    as :func:`~phonglab.core.shade`, in float64.
+    The record of :func:`~phonglab.core.shade_reference` at the point, in
+    float64: the same light factors (:func:`~phonglab.core.attenuation`,
+    :func:`~phonglab.core.spot_factor`) and flip
+    (:func:`~phonglab.core.face_forward`) as both kernels.
 
     Examples
     --------
@@ -80,34 +101,8 @@ def vectors(point, normal, *, light: Light, eye=None, view_direction=None, two_s
         raise InvalidValue("light", light, "must be a point, directional or spot light "
                            "(ambient light has no direction)")
     eye, view_direction = viewer(eye, view_direction)
-    # one point as components-first (3, 1) columns, the layout of the shading kernel
-    p = np.asarray(vec3("point", point))[:, None]
-    n, _ = normalize_c(np.asarray(vec3("normal", normal))[:, None])
-    if eye is not None:
-        v, _ = normalize_c(np.asarray(eye)[:, None] - p)
-    else:
-        v, _ = normalize_c(np.asarray(view_direction)[:, None])
-    # two-sided: the normal turned towards the eye
-    flipped = bool(two_sided and facing_away(n, v, axis=0)[0])
-    if two_sided:
-        n = face_forward(n, v, axis=0)
-    # the light's direction, distance and factor f_l = attenuation × spot
-    f_att = f_spot = 1.0
-    if isinstance(light, DirectionalLight):
-        l, _ = normalize_c(np.asarray(light.direction)[:, None])
-        distance = None
-    else:
-        l, dist = normalize_c(np.asarray(light.position)[:, None] - p)
-        distance = float(dist[0])
-        f_att = float(attenuation(dist, light.attenuation)[0])
-        if isinstance(light, SpotLight) and light.is_cone:
-            axis, _ = normalize_c(np.asarray(light.direction)[:, None])
-            cos_axis = np.negative(dot_c(l, axis))  # the axis against the ray light -> point
-            f_spot = float(spot_factor(cos_axis, cutoff=light.cutoff, exponent=light.exponent)[0])
-    r = reflect_c(l, n)
-    h, _ = normalize_c(l + v)
-    return ProbeVectors(
-        n=n[:, 0], l=l[:, 0], r=r[:, 0], v=v[:, 0], h=h[:, 0],
-        nl=float(dot_c(n, l)[0]), rv=float(dot_c(r, v)[0]), nh=float(dot_c(n, h)[0]),
-        distance=distance, attenuation=f_att, spot=f_spot, flipped=flipped,
-    )
+    p = np.asarray(vec3("point", point), np.float64)
+    n = np.asarray(vec3("normal", normal), np.float64)
+    _, record = shade_reference(p[None], n[None], material=_MATERIAL, lights=[light], eye=eye,
+                                view_direction=view_direction, two_sided=two_sided, trace=True)
+    return ProbeVectors.of(record.at(0), 0)

@@ -35,7 +35,8 @@ import numpy as np
 
 from .checks import as_points, check_lights, check_material, check_model, refuse_nonfinite, viewer
 from .model import AmbientLight, DirectionalLight, Material, SpotLight
-from .physics import attenuation, face_forward, spot_factor
+from .physics import attenuation, face_forward, facing_away, spot_factor
+from .record import ambient_intensity, bind, make_light_record, make_record, names_in
 from .shading import Shading
 from .vectors import dot, normalize, reflect, unit_direction, working_dtype
 
@@ -57,6 +58,9 @@ def lambert(nl):
     return np.maximum(nl, 0)
 
 
+lambert.formula = ("max0", "n·l")
+
+
 def specular_lobe(nl, c, shininess):
     """The specular weight: ``max(0, c)^α`` where ``n·l > 0`` and ``c > 0``, else 0.
 
@@ -66,6 +70,9 @@ def specular_lobe(nl, c, shininess):
     """
     lit = (nl > 0) & (c > 0)
     return np.where(lit, np.maximum(c, 0) ** shininess, 0)
+
+
+specular_lobe.formula = ("if", ("n·l", "c"), ("pow", ("max0", "c"), "α"))
 
 
 def light_vector(to_light):
@@ -99,6 +106,9 @@ def ambient_term(ka_ia, f_lights):
     return ka_ia
 
 
+ambient_term.formula = ("mul", "k_a", "I_a")
+
+
 @dataclass(frozen=True)
 class Steps:
     """The steps of :func:`shade_reference` that can be replaced.
@@ -126,6 +136,12 @@ class Steps:
     specular_weight : callable ``(nl, c, shininess) -> weight``
         The factor of ``k_s ∘ I_s`` from ``n·l``, ``c`` (``r·v`` or ``n·h``)
         and α. Default :func:`specular_lobe`.
+
+    A step may say which formula it computes in a ``formula`` attribute
+    (:mod:`phonglab.core.record`; ``c`` stands for the model's cosine): the
+    record's terms show it, so a replaced step shows its own formula. The
+    weights and the ambient step have one; the vector steps need none (the
+    record keeps the vectors they returned).
     """
 
     normal: Callable = unit_normal
@@ -149,7 +165,8 @@ def shade_reference(
     model: str = "phong",
     two_sided: bool = False,
     steps: Steps = Steps(),
-) -> Shading:
+    trace: bool = False,
+):
     """The Phong or Blinn-Phong model evaluated the plain way, one light at a time.
 
     Parameters
@@ -168,12 +185,16 @@ def shade_reference(
         (:func:`~phonglab.core.face_forward`).
     steps : Steps
         The replaceable steps; the default is the model.
+    trace : bool
+        Also return the :class:`~phonglab.core.Record` of what was used:
+        every vector, factor, cosine, weight and term, per light.
 
     Returns
     -------
-    Shading
+    Shading, or (Shading, Record) with ``trace``
         Every term computed, each of shape ``(..., 3)``; float32 when both
-        inputs are float32, else float64.
+        inputs are float32, else float64. The record's values have the
+        points' shape (and a last axis of 3 for vectors and colours).
 
     Notes
     -----
@@ -190,6 +211,10 @@ def shade_reference(
     α near the highlight this kernel is less accurate than
     :func:`~phonglab.core.shade` (about ``α`` ulps of the specular term).
 
+    The record's terms are formulas (:mod:`phonglab.core.record`): each
+    step's ``formula`` attribute, where it has one, else the name of the
+    value it returned (``diffuse weight``, ``specular weight``, ``ambient``).
+
     Examples
     --------
     >>> import phonglab as pl
@@ -198,6 +223,12 @@ def shade_reference(
     ...                        lights=[pl.DirectionalLight(direction=(0, 0, 1))])
     >>> s.diffuse.round(6).tolist(), s.specular.round(6).tolist()
     ([[0.5, 0.5, 0.5]], [[0.5, 0.5, 0.5]])
+    >>> s, record = pl.shade_reference([[0, 0, 1.0]], [[0, 0, 1.0]], eye=(0, 0, 5), trace=True,
+    ...                                material=pl.Material(ka=0.1, kd=0.5, ks=0.5, shininess=10),
+    ...                                lights=[pl.DirectionalLight(direction=(0, 1, 1))])
+    >>> light = record.lights[0]
+    >>> round(float(light["n·l"][0]), 4), light.terms["diffuse"]
+    (0.7071, ('mul', 'f', 'k_d', 'I_d', ('max0', 'n·l')))
     """
     check_material(material)
     lights = check_lights(lights)
@@ -208,6 +239,7 @@ def shade_reference(
     refuse_nonfinite("normals", normals)
     dtype = working_dtype(points, normals)
     points, normals = np.broadcast_arrays(points.astype(dtype), normals.astype(dtype))
+    per_point, per_rgb = points.shape[:-1], points.shape
 
     # the normal, and the direction to the eye
     n = steps.normal(normals)
@@ -215,33 +247,40 @@ def shade_reference(
         v = steps.view(points, np.asarray(eye, dtype))
     else:
         v = np.broadcast_to(unit_direction(view_direction, dtype), points.shape)
+    flipped = np.zeros(per_point, bool)
     if two_sided:
+        flipped = facing_away(n, v)
         n = face_forward(n, v)
 
     # ambient and emission: the same at every point
-    ia = np.zeros(3)
-    for light in lights:
-        if isinstance(light, AmbientLight):
-            ia += light.ambient_rgb
+    ia = ambient_intensity(lights)
     ka_ia = np.asarray(material.ka) * ia
     emission = np.broadcast_to(np.asarray(material.emission, dtype), points.shape)
 
     diffuse = np.zeros(points.shape, dtype)
     specular = np.zeros(points.shape, dtype)
     f_lights = []  # each positioned light's f, for the ambient step
-    for light in lights:
+    records = []
+    cosine = "r·v" if model == "phong" else "n·h"
+    for index, light in enumerate(lights):
         if isinstance(light, AmbientLight):
             continue
+        values = {}
         # the direction to the light, and f_l = attenuation × spot
         if isinstance(light, DirectionalLight):
             l = np.broadcast_to(unit_direction(light.direction, dtype), points.shape)
             f = np.ones(points.shape[:-1], dtype)
+            values.update(l=l)
         else:
             l, dist = steps.light(np.asarray(light.position, dtype) - points)
             f = attenuation(dist, light.attenuation)
+            values.update(l=l, d=dist, attenuation=f)
             if isinstance(light, SpotLight):
                 axis = unit_direction(light.direction, dtype)
-                f = f * steps.spot(-dot(l, axis), cutoff=light.cutoff, exponent=light.exponent)
+                f_spot = steps.spot(-dot(l, axis), cutoff=light.cutoff, exponent=light.exponent)
+                f = f * f_spot
+                values.update(spot=f_spot)
+        values.update(f=f)
         f = f[..., None]
         if not isinstance(light, DirectionalLight):
             f_lights.append(f)
@@ -249,17 +288,81 @@ def shade_reference(
 
         # diffuse: k_d ∘ I_d times the diffuse weight
         kd_id = np.asarray(material.kd) * np.asarray(light.diffuse_rgb)
-        diffuse += (f * kd_id * steps.diffuse_weight(nl)[..., None]).astype(dtype)
+        w_d = steps.diffuse_weight(nl)
+        term_d = (f * kd_id * w_d[..., None]).astype(dtype)
+        diffuse += term_d
 
         # specular: k_s ∘ I_s times the specular weight of c = r·v or n·h
         if model == "phong":
-            c = dot(steps.mirror(l, n), v)
+            r = steps.mirror(l, n)
+            c = dot(r, v)
         else:
-            c = dot(n, normalize(l + v))
+            h = normalize(l + v)
+            c = dot(n, h)
         ks_is = np.asarray(material.ks) * np.asarray(light.specular_rgb)
-        specular += (f * ks_is * steps.specular_weight(nl, c, material.shininess)[..., None]).astype(dtype)
+        w_s = steps.specular_weight(nl, c, material.shininess)
+        term_s = (f * ks_is * w_s[..., None]).astype(dtype)
+        specular += term_s
+
+        if trace:
+            # the other model's vector and cosine too: the page shows r, h, r·v and n·h
+            if model == "phong":
+                h = normalize(l + v)
+                values.update({"n·l": nl, "r": r, "r·v": c, "h": h, "n·h": dot(n, h)})
+            else:
+                r = steps.mirror(l, n)
+                values.update({"n·l": nl, "r": r, "r·v": dot(r, v), "h": h, "n·h": c})
+            values.update({
+                "I_d": np.broadcast_to(np.asarray(light.diffuse_rgb, dtype), per_rgb),
+                "I_s": np.broadcast_to(np.asarray(light.specular_rgb, dtype), per_rgb),
+                "diffuse weight": w_d, "specular weight": w_s,
+                "diffuse": term_d, "specular": term_s, "adds": term_d + term_s,
+            })
+            terms = {"diffuse": ("mul", "f", "k_d", "I_d", _formula(steps.diffuse_weight, "diffuse weight")),
+                     "specular": ("mul", "f", "k_s", "I_s",
+                                  bind(_formula(steps.specular_weight, "specular weight"), {"c": cosine}))}
+            known = set(values) | _SHARED
+            terms = {name: _usable(formula, known, name) for name, formula in terms.items()}
+            kind = "directional" if isinstance(light, DirectionalLight) else (
+                "spot" if isinstance(light, SpotLight) else "point")
+            records.append(make_light_record(index, kind, {k: _cast(a, dtype) for k, a in values.items()}, terms))
 
     # ambient: k_a ∘ I_a, the same at every point
     ambient = np.broadcast_to(steps.ambient(ka_ia, f_lights).astype(dtype), points.shape)
     color = ambient + emission + diffuse + specular
-    return Shading(ambient=ambient, diffuse=diffuse, specular=specular, emission=emission, color=color)
+    shading = Shading(ambient=ambient, diffuse=diffuse, specular=specular, emission=emission, color=color)
+    if not trace:
+        return shading
+    shared = {
+        "n": n, "v": v, "n·v": dot(n, v), "flipped": flipped,
+        "α": np.full(per_point, material.shininess, dtype),
+        **{name: np.broadcast_to(np.asarray(k, dtype), per_rgb)
+           for name, k in (("k_a", material.ka), ("k_d", material.kd), ("k_s", material.ks),
+                           ("k_e", material.emission), ("I_a", ia))},
+    }
+    if f_lights:
+        shared["f_lamp"] = f_lights[0][..., 0]
+    shared.update(ambient=ambient, emission=emission)
+    terms = {"ambient": _usable(_formula(steps.ambient, "ambient"), set(shared), "ambient"), "emission": "k_e"}
+    values = {k: _cast(a, dtype) for k, a in shared.items()}
+    return shading, make_record(model, values, terms, records)
+
+
+#: the record's own values, which every light's formulas may read too
+_SHARED = {"n", "v", "n·v", "flipped", "α", "k_a", "k_d", "k_s", "k_e", "I_a"}
+
+
+def _usable(formula, known, name):
+    """``formula``, or the plain name of the recorded result if it reads a value this record lacks."""
+    return formula if set(names_in(formula)) <= set(known) | {name} else name
+
+
+def _formula(step, name):
+    """The formula a step computes (its ``formula`` attribute), or the name of its recorded result."""
+    return getattr(step, "formula", name)
+
+
+def _cast(a, dtype):
+    """A recorded value as an array in the working dtype (booleans stay booleans)."""
+    a = np.asarray(a)
+    return a if a.dtype == bool or a.dtype == dtype else a.astype(dtype)

@@ -30,9 +30,10 @@ import numpy as np
 
 from .checks import as_points, check_lights, check_material, refuse_nonfinite, viewer
 from .microfacet import fresnel_f0, ggx_alpha, ggx_distribution, smith_visibility_nl
-from .model import AmbientLight, DirectionalLight, InvalidValue, Material
+from .model import DirectionalLight, InvalidValue, Material
 from .physics import attenuation, face_forward, spot_factor
 from .plan import LightPlan, Plan, plan_effects
+from .record import ambient_intensity
 from .vectors import const_row, cos_power, dot_c, normalize_c, one_minus_cos_c, unit_direction, working_dtype
 
 __all__ = ["Shading", "shade"]
@@ -227,12 +228,8 @@ class _Constants:
     def __init__(self, material, lights, plan, eye, view_direction, dtype, points, normals):
         self.dtype = dtype
         self.model = plan.model
-        ia = np.zeros(3)
-        for lt in lights:
-            if isinstance(lt, AmbientLight):
-                ia += lt.ambient_rgb
         ka = np.asarray(material.ka)
-        self.ambient = (ka * ia).astype(dtype) if plan.ambient else np.zeros(3, dtype)
+        self.ambient = (ka * ambient_intensity(lights)).astype(dtype) if plan.ambient else np.zeros(3, dtype)
         self.emission = np.asarray(material.emission, dtype) if plan.emission else np.zeros(3, dtype)
         self.shininess = material.shininess
         self.eye = None if eye is None else np.asarray(eye, dtype)[:, None]

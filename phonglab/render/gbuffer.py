@@ -125,7 +125,9 @@ class GBufferRenderer:
         prop.SetFrontfaceCulling(cull == "front")
         self._use_mesh(mesh)
         self._window.SetSize(width, height)
-        self._renderer.GetActiveCamera().DeepCopy(camera)
+        own = self._renderer.GetActiveCamera()
+        own.DeepCopy(camera)
+        own.Modified()  # DeepCopy leaves the modification time: without this, the last camera's matrices stay
         self._renderer.ResetCameraClippingRange()
         planes = []
         # one pass per component: normal x, y, z then position x, y, z

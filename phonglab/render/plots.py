@@ -8,6 +8,7 @@ SVG or PDF. Directions point *away from the surface point*.
 from __future__ import annotations
 
 import math
+from collections import ChainMap
 
 import matplotlib
 
@@ -17,11 +18,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.patches import Arc  # noqa: E402
 
+from phonglab import core  # noqa: E402
 from phonglab.render.errors import FigureError  # noqa: E402
 from phonglab.render.layout import canvas  # noqa: E402
 from phonglab.render.mesh import build_mesh  # noqa: E402
 from phonglab.render.probe import directed_light_index, locate_probe, probe_vectors  # noqa: E402
 from phonglab.render.text import fit_width, keep_inside  # noqa: E402
+from phonglab.scene import trace  # noqa: E402
 
 #: shininess values drawn by the lobe plot (the scene's own is added)
 LOBE_EXPONENTS = (1, 4, 16, 64, 256)
@@ -68,7 +71,8 @@ def lobe_plot(scene, size):
     phi = np.linspace(-math.pi / 2, math.pi / 2, 721)
     colors = plt.cm.viridis(np.linspace(0.05, 0.85, len(exponents)))
     for alpha, color in zip(exponents, colors):
-        lobe = np.maximum(0.0, np.cos(phi)) ** alpha
+        cos = np.cos(phi)
+        lobe = core.specular_lobe(np.ones_like(cos), cos, alpha)  # a lit point: the n·l gate open
         mine = alpha == alpha_scene
         label = rf"$\alpha$ = {alpha:g}" + ("  (this scene)" if mine else "") + f"   half at {half_width(alpha):.1f}°"
         style = dict(color="black" if mine else color, lw=3.2 if mine else 1.6,
@@ -111,21 +115,22 @@ def lambert_plot(scene, size):
     theta = np.linspace(0, 180, 721)
     cos = np.cos(np.radians(theta))
     flat.plot(theta, cos, color="0.6", ls="--", lw=1.4, label=r"$\cos\theta$")
-    flat.plot(theta, np.maximum(0, cos), color=PAPER_COLORS["L"], lw=3, label=r"$\max(0, \cos\theta)$")
+    flat.plot(theta, core.lambert(cos), color=PAPER_COLORS["L"], lw=3, label=r"$\max(0, \cos\theta)$")
     flat.axvspan(90, 180, color="0.9")
     flat.text(135, 0.55, "light behind\nthe surface:\nno diffuse light", ha="center", va="center", fontsize=fs * 0.85)
     flat.axhline(0, color="black", lw=0.8)
     probe = _probe_vectors(scene)
     if probe is not None:
-        _, _, vec = probe
+        _, _, vec, used = probe
         angle = math.degrees(math.acos(max(-1.0, min(1.0, vec.nl))))
+        weight = float(used["diffuse weight"])  # max(0, n·l), as the model computed it
         flat.axvline(angle, color=PAPER_COLORS["N"], lw=1.2)
-        flat.plot([angle], [max(0.0, vec.nl)], "o", color=PAPER_COLORS["N"])
+        flat.plot([angle], [weight], "o", color=PAPER_COLORS["N"])
         # the numbers on a white patch, on the side of the line with more room
         left = angle > 120
         flat.annotate(
             f"probe: θ = {angle:.1f}°\nn·l = {vec.nl:.3f}",
-            (angle, max(0.0, vec.nl)),
+            (angle, weight),
             xytext=(-10 if left else 10, -40),
             textcoords="offset points",
             ha="right" if left else "left",
@@ -262,13 +267,19 @@ def _half_polar(fig, cell, neighbour, fs, title: str):
 
 
 def _probe_vectors(scene):
-    """(point, normal, ProbeVectors) at the scene's probe for its first directed light, or None."""
+    """(point, normal, ProbeVectors, used) at the scene's probe for its first directed light, or None.
+
+    ``used`` maps a name to what the model used there (:func:`phonglab.scene.trace`):
+    the light's values (its weights, ``n·l``), then the point's (``n·v``).
+    """
     index = directed_light_index(scene.lights)
     if index is None:
         return None
     point, normal = locate_probe(build_mesh(scene.geometry), scene)
     vec, _ = probe_vectors(scene, point, normal, index)
-    return point, normal, vec
+    _, record = trace(scene, np.asarray([point], float), np.asarray([normal], float))
+    record = record.at(0)
+    return point, normal, vec, ChainMap(dict(record.light(index).values), dict(record.values))
 
 
 def _free_spot(spot, placed, distance: float) -> np.ndarray:
@@ -305,12 +316,12 @@ def incidence_plot(scene, size):
     probe = _probe_vectors(scene)
     if probe is None:
         raise FigureError("plot: incidence needs a point, directional or spot light in the scene")
-    point, _, vec = probe
+    point, _, vec, used = probe
     n, l, r, v, h = vec.n, vec.l, vec.r, vec.v, vec.h
     # in-plane basis: y along N, x along L's tangent part (L drawn on the left)
-    tangent = l - (l @ n) * n
+    tangent = l - vec.nl * n
     if np.linalg.norm(tangent) < 1e-9:
-        tangent = v - (v @ n) * n
+        tangent = v - float(used["n·v"]) * n
     if np.linalg.norm(tangent) < 1e-9:
         tangent = np.cross(n, [1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.cross(n, [0.0, 1.0, 0.0])
     x_axis = -tangent / np.linalg.norm(tangent)
@@ -358,9 +369,8 @@ def incidence_plot(scene, size):
 
     # the numbers, in blocks: angles, then dot products and the specular factor
     alpha = scene.material.shininess
-    specular_cos = vec.nh if scene.model == "blinn-phong" else vec.rv
     cos_symbol = r"n\cdot h" if scene.model == "blinn-phong" else r"r\cdot v"
-    factor = max(0.0, specular_cos) ** alpha if vec.nl > 0 else 0.0
+    factor = float(used["specular weight"])  # as the model computed it, gated by n·l > 0
     blocks = [
         "\n".join([
             rf"$\theta_i = \angle(N, L)$ = {_angle(n, l):.1f}°",

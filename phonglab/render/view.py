@@ -62,9 +62,12 @@ from phonglab.render.camera import CameraState, check_camera
 from phonglab.render.mesh import build_mesh
 from phonglab.render.probe import directed_light_index
 from phonglab.render.saving import save_png
+from phonglab.scene import Scene
 
 #: default background (slate), RGB in [0, 1]
 BACKGROUND = (0.13, 0.14, 0.17)
+#: what a scene change may need of the glyphs (Scene.changes): the arrows, the light markers, the eye marker
+GLYPHS = {"vectors", "markers", "eye"}
 
 
 def _check_term(term: str) -> None:
@@ -154,7 +157,7 @@ class SceneView:
         self._light_index_choice = light_index
         self._gbuffers = pixels.GBufferCache()
         self._keep_view_angle = False  # the camera came from a browser: its view angle is not refitted
-        self._stale_glyphs = set()  # scene fields whose change the glyphs do not show yet (defer_glyphs)
+        self._stale_glyphs = set()  # glyphs (GLYPHS) a change left to reshape (defer_glyphs)
         self._scene_plan = (None, None)  # (scene, plan(scene)) from update(scene_plan=), used while it shows
 
         # window, renderer, camera
@@ -245,30 +248,24 @@ class SceneView:
         if scene_plan is not None:
             self._scene_plan = (scene, scene_plan)
         old, self.scene = self.scene, scene
-        if old.camera != scene.camera:
+        needs = Scene.changes(old, scene)
+        if "camera" in needs:
             self._keep_view_angle = bool(keep_view_angle)
-        changed = {
-            name
-            for name in ("geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "probe",
-                         "area_light", "display", "exposure")
-            if getattr(old, name) != getattr(scene, name)
-        }
-        if not changed:
+        if not needs:
             return
-        if "geometry" in changed:
+        if "mesh" in needs:
             self._set_mesh(build_mesh(scene.geometry))
-        if "camera" in changed:
+        if "camera" in needs:
             set_camera(self.renderer.GetActiveCamera(), scene.camera)
             self._gbuffers.clear()
             self._cull()
-        if changed & {"geometry", "material", "lights", "camera", "model", "interpolation", "two_sided", "area_light",
-                      "display", "exposure"}:
+        if "colours" in needs:
             self._recolor()
-        if changed & {"geometry", "probe"} or ("camera" in changed and scene.probe is None):
+        if "probe" in needs or ("default probe" in needs and scene.probe is None):
             self._arrows.locate(self.mesh, scene)
-        stale = changed & {"geometry", "probe", "lights", "camera", "two_sided", "area_light"}
+        stale = needs.needs & GLYPHS
         if defer_glyphs:
-            if changed & {"geometry", "probe", "lights", "camera", "two_sided"}:
+            if "vectors" in stale:
                 self._arrows.compute(scene, self.light_index)  # the numbers now, the shapes later
             self._stale_glyphs |= stale
             return
@@ -278,12 +275,17 @@ class SceneView:
     def refresh_glyphs(self) -> None:
         """Reshape the arrows and markers that an :meth:`update` with ``defer_glyphs`` left as they were."""
         stale, self._stale_glyphs = self._stale_glyphs, set()
-        if stale & {"geometry", "probe", "lights", "camera", "two_sided"}:
+        if "vectors" in stale:
             self._update_vectors()
-        if stale & {"lights", "camera", "area_light"}:
+        if "markers" in stale:
             self._update_markers()
-        if "camera" in stale:
+        if "eye" in stale:
             self._update_eye_marker()
+
+    @property
+    def glyphs_stale(self) -> bool:
+        """True while an :meth:`update` with ``defer_glyphs`` left arrows or markers to reshape."""
+        return bool(self._stale_glyphs)
 
     def set_probe(self, point) -> None:
         """Move the probe to the surface point nearest ``point`` (None: the default probe)."""

@@ -3,7 +3,8 @@
 A scene travels one way: a TOML file (or a lesson's TOML front matter) is
 read and checked once into frozen dataclasses (:class:`Scene`,
 :class:`Lesson`); :func:`plan` decides which lighting effects the scene calls
-for, and :func:`shade` runs the core on the scene's mesh points with that plan.
+for, and :func:`shade` runs the core on the scene's mesh points with that plan;
+:func:`trace` gives the record of what the model used at a point (the readout's numbers).
 
 The modules import one way, each only those listed before it::
 
@@ -23,7 +24,7 @@ from phonglab.scene.model import Camera, Experiment, Geometry, Lesson, Scene
 from phonglab.scene.fieldpath import field_value, parse_path, parse_setting, parse_value, scene_to_dict
 from phonglab.scene.loader import lesson_files, load_scene, scene_from_dict
 from phonglab.scene.lessons import Entry, catalog, list_lessons, load, load_entry, load_lesson
-from phonglab.scene.planner import ScenePlan, plan, shade, viewer
+from phonglab.scene.planner import ScenePlan, plan, shade, trace, viewer
 
 __all__ = [
     "Camera",
@@ -58,4 +59,5 @@ __all__ = [
     "scene_from_dict",
     "scene_to_dict",
     "shade",
+    "trace",
 ]

@@ -1,19 +1,27 @@
 """A lesson's executable claims: the ``[[claims]]`` tables of its front matter.
 
 A claim pairs a sentence of the lesson (``says``) with a check the test suite
-runs on the lesson's own scene (``check``), optionally after an experiment's
-settings (``experiment = N``, counted from 1) and further settings
-(``set = {...}``, applied with :meth:`Scene.replace_many` as the page applies
-an experiment)::
+and ``phonglab check`` run on the lesson's own scene (``check``), optionally
+after an experiment's settings (``experiment = N``, counted from 1) and
+further settings (``set = {...}``, applied with :meth:`Scene.replace_many`
+as the page applies an experiment). Every claim says what it speaks of
+(``about``): the model's numbers (``"model"``) or the picture the student
+sees (``"picture"``, measured with the ``shown_*`` functions), and how its
+sentence would be made false (``false_when``: other settings, or a number or
+comparison of the check replaced), under which the check must fail::
 
     [[claims]]
     says = "0.9^10 ≈ 0.35"
+    about = "model"
     check = "abs(pow(0.9, 10) - 0.35) < 0.005"
+    false_when = { replace = ["0.35", "0.45"] }
 
     [[claims]]
-    says = "the peak stays k_s I_s whatever α"
-    experiment = 2
-    check = "abs(peak('specular') - 0.6) < 0.01"
+    says = "At exposure 3 a quarter of the sphere is clipped to white."
+    about = "picture"
+    experiment = 3
+    check = "0.2 < shown_fraction('color', 255, 255) < 0.3"
+    false_when = { set = { "exposure" = 1 } }
 
 The check is a small, safe expression language, read with :mod:`ast` and
 never passed to ``eval``: numbers, ``+ - * / **``, comparisons (chains
@@ -27,16 +35,35 @@ checks the form; :mod:`phonglab.accuracy.claims` measures and decides.
 from __future__ import annotations
 
 import ast
+import re
 from dataclasses import dataclass
 
 from phonglab.scene.errors import SceneError
-from phonglab.scene.schema import CLAIM_FUNCTIONS, CLAIM_MAX_CHARS, CLAIM_MAX_NODES
+from phonglab.scene.schema import CLAIM_FUNCTIONS, CLAIM_MAX_CHARS, CLAIM_MAX_NODES, PICTURE_FUNCTIONS
 
-__all__ = ["Claim", "parse_check"]
+__all__ = ["Claim", "FalseWhen", "parse_check", "calls", "about_problem", "seeing_word", "replaced_check"]
 
 _BINARY = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow)
 _UNARY = (ast.USub, ast.UAdd, ast.Not)
 _COMPARE = (ast.Lt, ast.LtE, ast.Gt, ast.GtE, ast.Eq, ast.NotEq)
+
+
+@dataclass(frozen=True)
+class FalseWhen:
+    """How to make a claim's sentence false: the check must then fail.
+
+    Parameters
+    ----------
+    settings : tuple of (str, object)
+        Field paths and values applied after the claim's own (a scene of
+        which the sentence is false).
+    replace : (str, str) or None
+        Text of the check and what replaces it (every occurrence): the
+        sentence's number or direction changed.
+    """
+
+    settings: tuple = ()
+    replace: tuple[str, str] | None = None
 
 
 @dataclass(frozen=True)
@@ -49,6 +76,10 @@ class Claim:
         The sentence, as the lesson states it.
     check : str
         The expression that must be true (see the module docstring).
+    about : str
+        ``"model"`` (the model's numbers) or ``"picture"`` (what the page shows).
+    false_when : FalseWhen
+        A change that makes the sentence false, under which the check must fail.
     experiment : int or None
         Apply this experiment's settings first (1 is the first experiment).
     settings : tuple of (str, object)
@@ -59,6 +90,8 @@ class Claim:
 
     says: str
     check: str
+    about: str = "model"
+    false_when: FalseWhen = FalseWhen()
     experiment: int | None = None
     settings: tuple = ()
     index: int = 0
@@ -141,3 +174,42 @@ def parse_check(text) -> ast.Expression:
         raise SceneError(f"must have at most {CLAIM_MAX_NODES} parts; split it into several claims", value=text)
     _check_number(tree.body)
     return tree
+
+
+def calls(tree: ast.Expression) -> set[str]:
+    """The names of the functions a checked expression calls."""
+    return {node.func.id for node in ast.walk(tree) if isinstance(node, ast.Call)}
+
+
+def about_problem(about: str, tree: ast.Expression) -> str | None:
+    """What is wrong with a claim's ``about`` for the functions its check calls, or None.
+
+    A picture claim measures the picture shown (a ``shown_*`` function; it
+    may compare it with the model's numbers); a model claim measures none.
+    """
+    shown = sorted(calls(tree) & set(PICTURE_FUNCTIONS))
+    if about == "picture" and not shown:
+        return "a picture claim must measure the picture shown: call one of " + ", ".join(PICTURE_FUNCTIONS)
+    if about == "model" and shown:
+        return (f"a model claim speaks of the model's numbers, but the check measures the picture ({shown[0]}); "
+                "say about = \"picture\"")
+    return None
+
+
+#: words that say how the picture looks; a sentence using one is a sentence about the picture.
+#: (Words of viewpoint, "the side you see", say nothing about the picture; "white light" is a colour.)
+SEEING_WORDS = re.compile(
+    r"\b(black|white(?! lights?\b)|dark|darker|darkest|bright|brighter|brightest|dim|dimmer|flattens|glows?|"
+    r"gives back|catch(?:es)? up|clipped|washes out|fades?|pitch)\b",
+    re.IGNORECASE)
+
+
+def seeing_word(says: str) -> str | None:
+    """The first word of ``says`` that speaks of what the student sees, or None."""
+    match = SEEING_WORDS.search(says)
+    return match.group(0) if match else None
+
+
+def replaced_check(check: str, replace: tuple[str, str]) -> str:
+    """``check`` with every occurrence of ``replace[0]`` replaced by ``replace[1]``."""
+    return check.replace(replace[0], replace[1])

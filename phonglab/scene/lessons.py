@@ -24,8 +24,9 @@ from phonglab.scene.errors import SceneError, SceneErrors, join_path
 from phonglab.scene.fieldpath import check_path_shape, field_value
 from phonglab.scene.loader import display, lesson_files, load_scene, parse_toml, read_text
 from phonglab.scene.model import Experiment, Lesson, Scene
-from phonglab.scene.schema import CLAIM_KEYS, CLAIM_REQUIRED, EXPERIMENT_KEYS, LESSON_KEYS, MAX_NESTING
-from phonglab.scene.claims import Claim, parse_check
+from phonglab.scene.schema import (CLAIM_ABOUT, CLAIM_KEYS, CLAIM_REQUIRED, EXPERIMENT_KEYS, FALSE_WHEN_KEYS,
+                                   LESSON_KEYS, MAX_NESTING)
+from phonglab.scene.claims import Claim, FalseWhen, about_problem, parse_check, replaced_check, seeing_word
 from phonglab.scene.toml_lines import KeyLines, render_key
 
 #: a Markdown heading line: "# Title"
@@ -95,6 +96,19 @@ def split_front_matter(text: str, shown: str) -> tuple[str, str, int]:
     raise SceneErrors(
         [SceneError("the front matter opened by +++ on line 1 is never closed by a +++ line", file=shown, line=1)]
     )
+
+
+def front_matter_lines(path) -> KeyLines:
+    """The file line of every key of a lesson's front matter (``claims[2].check`` -> 57), for reports.
+
+    Raises
+    ------
+    SceneErrors
+        When the file cannot be read or has no front matter.
+    """
+    shown = display(path)
+    front, _, first = split_front_matter(read_text(path, shown), shown)
+    return KeyLines(front, first)
 
 
 def number_from_name(path) -> int | None:
@@ -299,8 +313,63 @@ def _build_experiment(item, where: str, scene: Scene | None, problems: Problems)
     return Experiment(label=label, text=text, settings=tuple(settings)) if ok else None
 
 
+def _claim_settings(raw_set, base: Scene | None, where: str, problems: Problems) -> list | None:
+    """A claim's (or its ``false_when``'s) ``set`` table as settings checked on ``base``; None if refused."""
+    if not isinstance(raw_set, dict):
+        problems.add(SceneError('must be a table of field paths and values, e.g. {"material.ks" = 0}',
+                                field=where, value=raw_set))
+        return None
+    settings = _flatten(raw_set)
+    found = settings_problems(base, settings) if base is not None else []
+    for culprit, error in found:
+        for one in getattr(error, "errors", [error]):
+            problems.add(SceneError(one.problem, value=one.value, hint=one.hint,
+                                    field=join_path(where, render_key(culprit)) if culprit else where))
+    return None if found else settings
+
+
+def _build_false_when(raw, base: Scene | None, check: str | None, where: str, problems: Problems):
+    """A claim's ``false_when``: settings and/or a replacement in the check, under which the check must fail."""
+    table = problems.table(where, raw, FALSE_WHEN_KEYS)
+    if table is None:
+        return None
+    if not table:
+        problems.add(SceneError("must change something: a set table, a replace pair, or both", field=where,
+                                value=raw, hint='e.g. { replace = ["0.35", "0.45"] } or { set = { "exposure" = 1 } }'))
+        return None
+    settings = ()
+    if "set" in table:
+        found = _claim_settings(table["set"], base, join_path(where, "set"), problems)
+        if found is None:
+            return None
+        settings = tuple(found)
+    replace = table.get("replace")
+    if replace is not None:
+        at = join_path(where, "replace")
+        if not (isinstance(replace, list) and len(replace) == 2 and all(isinstance(t, str) and t for t in replace)
+                and replace[0] != replace[1]):
+            problems.add(SceneError("must be two different, non-empty texts: what to replace in the check and "
+                                    "what replaces it", field=at, value=replace))
+            return None
+        if check is None:
+            return None
+        if replace[0] not in check:
+            problems.add(SceneError("the text to replace is not in the check", field=at, value=replace[0],
+                                    hint=f"the check is {check.strip()!r}"))
+            return None
+        try:
+            parse_check(replaced_check(check, tuple(replace)))
+        except SceneError as exc:
+            problems.add(SceneError(f"the check with the replacement {exc.problem}", field=at, value=exc.value,
+                                    hint=exc.hint))
+            return None
+        replace = tuple(replace)
+    return FalseWhen(settings=settings, replace=replace)
+
+
 def _build_claims(raw, scene: Scene | None, experiments: list, n_experiments: int, problems: Problems) -> list[Claim]:
-    """The lesson's ``[[claims]]``: sentence, check expression, and the settings they are checked under."""
+    """The lesson's ``[[claims]]``: sentence, kind, check expression, the settings they are checked under
+    and the change that must make the check fail."""
     if not isinstance(raw, list):
         problems.add(SceneError("must be a list of [[claims]] tables", field="claims", value=raw))
         return []
@@ -311,12 +380,25 @@ def _build_claims(raw, scene: Scene | None, experiments: list, n_experiments: in
         if table is None:
             continue
         says = problems.run(check_text, join_path(where, "says"), table.get("says", ""))
+        about = problems.run(check_choice, join_path(where, "about"), table["about"], CLAIM_ABOUT) \
+            if "about" in table else None
         check = table.get("check")
         try:
-            parse_check(check)
+            tree = parse_check(check)
         except SceneError as exc:
             problems.add(SceneError(exc.problem, field=join_path(where, "check"), value=exc.value, hint=exc.hint))
-            check = None
+            check = tree = None
+        if about is not None and tree is not None:
+            wrong = about_problem(about, tree)
+            if wrong:
+                problems.add(SceneError(wrong, field=join_path(where, "about"), value=about))
+                about = None
+        if about == "model" and says and seeing_word(says):
+            problems.add(SceneError("the sentence says what the student sees, so it must be checked on the picture",
+                                    field=join_path(where, "about"), value=about,
+                                    hint=f'"{seeing_word(says)}" is about the picture: say about = "picture" and '
+                                         "measure it with shown_*, or word the sentence as the model's numbers"))
+            about = None
         number = table.get("experiment")
         base = scene
         if number is not None:
@@ -327,24 +409,16 @@ def _build_claims(raw, scene: Scene | None, experiments: list, n_experiments: in
                 number = None
             elif number is not None and scene is not None and len(experiments) == n_experiments:
                 base = scene.replace_many(experiments[number - 1].settings)
-        raw_set = table.get("set", {})
-        settings = []
-        if not isinstance(raw_set, dict):
-            problems.add(SceneError('must be a table of field paths and values, e.g. {"material.ks" = 0}',
-                                    field=join_path(where, "set"), value=raw_set))
-        else:
-            settings = _flatten(raw_set)
-            found = settings_problems(base, settings) if base is not None else []
-            for culprit, error in found:
-                for one in getattr(error, "errors", [error]):
-                    problems.add(SceneError(one.problem, value=one.value, hint=one.hint,
-                                            field=join_path(join_path(where, "set"), render_key(culprit)) if culprit
-                                            else join_path(where, "set")))
-            if found:
-                settings = None
-        if says is not None and check is not None and settings is not None and (number is not None
-                                                                              or "experiment" not in table):
-            claims.append(Claim(says=says, check=check.strip(), experiment=number, settings=tuple(settings), index=i))
+        settings = _claim_settings(table.get("set", {}), base, join_path(where, "set"), problems)
+        false_when = None
+        if "false_when" in table:
+            own = base.replace_many(settings) if base is not None and settings else base
+            false_when = _build_false_when(table["false_when"], own, check, join_path(where, "false_when"),
+                                           problems)
+        if None not in (says, about, check, settings, false_when) and (number is not None
+                                                                       or "experiment" not in table):
+            claims.append(Claim(says=says, check=check.strip(), about=about, false_when=false_when,
+                                experiment=number, settings=tuple(settings), index=i))
     return claims
 
 

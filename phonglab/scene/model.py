@@ -30,7 +30,38 @@ from phonglab.scene.schema import (
     PARAMETRIC_KINDS,
     RESOLUTION_RANGE,
     SCENE_DEFAULTS,
+    SCENE_FIELDS,
 )
+
+
+@dataclass(frozen=True)
+class Changes:
+    """What differs between two scenes, and what showing the new one needs (:meth:`Scene.changes`).
+
+    Attributes
+    ----------
+    fields : frozenset of str
+        The top-level fields that differ.
+    needs : frozenset of str
+        What those changes need, from :data:`phonglab.scene.schema.NEEDS`:
+        ``"mesh"``, ``"camera"``, ``"colours"``, ``"array"``, ``"probe"``,
+        ``"default probe"``, ``"vectors"``, ``"markers"``, ``"eye"``.
+    """
+
+    fields: frozenset
+    needs: frozenset
+
+    def __contains__(self, need: str) -> bool:
+        return need in self.needs
+
+    def __bool__(self) -> bool:
+        """True when showing the new scene needs anything (a new title needs nothing)."""
+        return bool(self.needs)
+
+    @property
+    def colours_only(self) -> bool:
+        """Only the mesh's colours change: nothing moves, no array changes place."""
+        return self.needs <= {"colours"}
 
 
 @dataclass(frozen=True)
@@ -87,6 +118,23 @@ class Scene:
 
     def __post_init__(self):
         object.__setattr__(self, "lights", tuple(self.lights))  # a list given in code is stored as a tuple
+
+    @staticmethod
+    def changes(old: "Scene", new: "Scene") -> Changes:
+        """Which top-level fields differ from ``old`` to ``new``, and what showing ``new`` needs.
+
+        Read from one table, :data:`phonglab.scene.schema.SCENE_FIELDS`:
+        e.g. a new material needs ``{"colours"}``, a new camera
+        ``{"camera", "colours", "default probe", "vectors", "markers", "eye"}``.
+
+        Examples
+        --------
+        >>> Scene.changes(scene, scene.replace("material.ks", 0.9)).needs  # doctest: +SKIP
+        frozenset({'colours'})
+        """
+        fields = frozenset(f.name for f in SCENE_FIELDS if getattr(old, f.name) != getattr(new, f.name))
+        needs = frozenset().union(*(f.needs for f in SCENE_FIELDS if f.name in fields))
+        return Changes(fields, needs)
 
     def replace(self, path: str, value) -> "Scene":
         """A copy with the field at ``path`` set to ``value``, validated.
@@ -205,6 +253,7 @@ class Lesson:
 
 __all__ = [
     "AreaLightSetup",
+    "Changes",
     "Camera",
     "Experiment",
     "Geometry",

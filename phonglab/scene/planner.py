@@ -157,17 +157,34 @@ def shade(scene: Scene, points, normals, *, full: bool = False, scene_plan: Scen
     return _add_area_light(scene, points, normals, shading)
 
 
-def _add_area_light(scene: Scene, points, normals, shading: core.Shading) -> core.Shading:
-    """The shading with the scene's area light added to its diffuse term and colour."""
-    normals = np.asarray(normals)
-    if scene.two_sided:  # the core's flip: normals facing away from the eye are turned towards it
-        to_eye = (core.normalize(np.broadcast_to(scene.camera.view_direction, np.shape(points)))
-                  if scene.camera.infinite_viewer else np.subtract(scene.camera.eye, points))
-        normals = core.face_forward(normals, to_eye)
+def _add_area_light(scene: Scene, points, normals, shading: core.Shading, record=None):
+    """The shading (and its record) with the scene's area light added to its diffuse term and colour."""
     area = scene.area_light
     # a fixed seed: Monte Carlo noise stays put while sliders move
-    extra = core.area_diffuse(points, normals, material=scene.material, light=area.light,
-                              method=area.method, samples=area.samples, seed=0)
-    extra = extra.astype(shading.color.dtype, copy=False)
-    return core.Shading(ambient=shading.ambient, diffuse=shading.diffuse + extra,
-                        specular=shading.specular, emission=shading.emission, color=shading.color + extra)
+    return core.add_area_light(shading, points, normals, material=scene.material, light=area.light,
+                               method=area.method, samples=area.samples, seed=0, two_sided=scene.two_sided,
+                               record=record, **viewer(scene))
+
+
+def trace(scene: Scene, points, normals, *, mistake: str | None = None) -> tuple[core.Shading, core.Record]:
+    """The scene's shading and the :class:`~phonglab.core.Record` of what the model used, at ``points``.
+
+    The reference kernel (:func:`~phonglab.core.shade_reference` with
+    ``trace=True``), with the scene's area light added (as the last light of
+    the record) when it adds light. With ``mistake`` (a name from
+    :data:`phonglab.teaching.MISTAKES`) the mistaken kernel's own shading
+    and record, without the area light, as :func:`shade` gives it.
+
+    The colours equal :func:`shade`'s to within the reference kernel's
+    rounding (a few ulps; about α ulps of a sharp highlight).
+    """
+    args = dict(material=scene.material, lights=scene.lights, model=scene.model, two_sided=scene.two_sided,
+                **viewer(scene))
+    if mistake is not None:
+        from phonglab.teaching import get_mistake
+
+        return get_mistake(mistake).shade(points, normals, trace=True, **args)
+    shading, record = core.shade_reference(points, normals, trace=True, **args)
+    if scene.area_light is None or not plan(scene).area_light:
+        return shading, record
+    return _add_area_light(scene, points, normals, shading, record)

@@ -33,18 +33,91 @@ RESOLUTION_RANGE = (3, 1024)
 AREA_METHODS = core.AREA_METHODS
 #: Monte Carlo samples per point of an area light
 AREA_SAMPLES_RANGE = (1, 4096)
-#: a scene's options when its file leaves them out
-SCENE_DEFAULTS = {"title": "", "model": "phong", "interpolation": "gouraud", "two_sided": False, "probe": None,
-                  "display": "srgb", "exposure": 1.0}
 #: how linear light is encoded for the screen (see phonglab.core.display)
 DISPLAYS = DISPLAY_ENCODINGS
+
+# ---------------------------------------------------------------------------
+# the scene's fields: one entry each, and what a change of it needs
+
+#: what a change can need, for whoever shows the scene (the view, the page)
+NEEDS = {
+    "mesh": "build the mesh again",
+    "camera": "move the view's camera",
+    "colours": "shade (and encode) the mesh's colours again",
+    "array": "the colours move between per-face and per-vertex arrays: a browser needs the whole view again",
+    "probe": "find the probe on the surface again",
+    "default probe": "a scene without a probe: the default probe, under the eye, moves with the camera",
+    "vectors": "the vectors at the probe (its arrows and numbers) change",
+    "markers": "the light markers and the area light's panel move or change",
+    "eye": "the eye marker moves",
+}
+
+_NO_DEFAULT = object()
+
+
+class SceneField:
+    """One top-level field of a scene: its file key, default, what a change of it needs, its value controls.
+
+    Parameters
+    ----------
+    name : str
+        The field of :class:`~phonglab.scene.Scene` and the key of the scene file.
+    needs : iterable of str
+        What a change of the field needs (keys of :data:`NEEDS`).
+    default : optional
+        The value when a file leaves the key out; a field without a default
+        is a table (built from the file by its own reader) or required.
+    mirrors : tuple of str
+        The field paths that get a value control of their own (the page's
+        state keys for the file form, :func:`phonglab.app.controls.field_mirrors`).
+    """
+
+    __slots__ = ("name", "needs", "default", "mirrors")
+
+    def __init__(self, name: str, needs=(), *, default=_NO_DEFAULT, mirrors=()):
+        unknown = set(needs) - set(NEEDS)
+        if unknown:
+            raise ValueError(f"SceneField {name!r}: unknown needs {sorted(unknown)}; allowed: {', '.join(NEEDS)}")
+        self.name, self.needs, self.default, self.mirrors = name, frozenset(needs), default, tuple(mirrors)
+
+    @property
+    def option(self) -> bool:
+        """A plain value with a default (``model``, ``exposure``), not a table."""
+        return self.default is not _NO_DEFAULT
+
+    def __repr__(self) -> str:
+        return f"SceneField({self.name!r}, needs={sorted(self.needs)})"
+
+
+#: Every top-level field of a scene, in the order of the file format. A new field is one entry here (and
+#: its attribute of Scene, whose default this gives); the file keys, the defaults, what the view and the
+#: page redo on a change (Scene.changes) and the field's value controls all follow from it.
+SCENE_FIELDS = (
+    SceneField("title", default=""),
+    SceneField("model", {"colours"}, default="phong", mirrors=("model",)),
+    SceneField("interpolation", {"colours", "array"}, default="gouraud", mirrors=("interpolation",)),
+    SceneField("two_sided", {"colours", "vectors"}, default=False, mirrors=("two_sided",)),
+    SceneField("probe", {"probe", "vectors"}, default=None, mirrors=("probe",)),
+    SceneField("display", {"colours"}, default="srgb", mirrors=("display",)),
+    SceneField("exposure", {"colours"}, default=1.0, mirrors=("exposure",)),
+    SceneField("geometry", {"mesh", "colours", "probe", "vectors"}),
+    SceneField("material", {"colours"}, mirrors=tuple(f"material.{k}" for k in
+                                                      ("ka", "kd", "ks", "shininess", "emission"))),
+    SceneField("lights", {"colours", "vectors", "markers"}),
+    SceneField("camera", {"camera", "colours", "default probe", "vectors", "markers", "eye"},
+               mirrors=("camera.infinite_viewer",)),
+    SceneField("area_light", {"colours", "markers"}),
+)
+#: field name -> its entry
+SCENE_FIELD = {f.name: f for f in SCENE_FIELDS}
+#: a scene's options when its file leaves them out
+SCENE_DEFAULTS = {f.name: f.default for f in SCENE_FIELDS if f.option}
 
 # ---------------------------------------------------------------------------
 # which keys each table allows
 
 #: keys of a scene file's top level
-SCENE_KEYS = ("title", "model", "interpolation", "two_sided", "probe", "display", "exposure", "geometry", "material",
-              "lights", "camera", "area_light")
+SCENE_KEYS = tuple(f.name for f in SCENE_FIELDS)
 #: further top-level keys of a lesson's front matter
 LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake", "claims", "check")
 GEOMETRY_KEYS = ("kind", "resolution", "name", "path")
@@ -140,8 +213,12 @@ def table_light_type(table: dict) -> str | None:
 # a lesson's executable claims: [[claims]] tables
 
 #: keys of a ``[[claims]]`` table
-CLAIM_KEYS = ("says", "check", "experiment", "set")
-CLAIM_REQUIRED = ("says", "check")
+CLAIM_KEYS = ("says", "about", "check", "false_when", "experiment", "set")
+CLAIM_REQUIRED = ("says", "about", "check", "false_when")
+#: what a claim speaks of: the model's (linear) numbers, or the picture the page shows
+CLAIM_ABOUT = ("model", "picture")
+#: keys of a claim's ``false_when`` table: how to make its sentence false
+FALSE_WHEN_KEYS = ("set", "replace")
 #: the longest check expression, in characters and in syntax-tree nodes
 CLAIM_MAX_CHARS = 400
 CLAIM_MAX_NODES = 80
@@ -150,6 +227,8 @@ PROBE_QUANTITIES = ("nl", "rv", "nh", "distance", "attenuation", "spot",
                     "ambient", "diffuse", "specular", "emission", "color")
 IMAGE_TERMS = ("ambient", "diffuse", "specular", "emission", "color")
 CHANNELS = ("r", "g", "b", "max")
+#: the pictures the page shows: the sum, or one term (its term buttons)
+SHOWN_TERMS = ("color", "ambient", "diffuse", "specular")
 ERROR_MEASURES = ("rmse", "max_error", "highlight_rmse", "peak_error")
 #: function name -> (argument kinds, meaning). A kind is "number" (any number
 #: expression) or a tuple of allowed words; a trailing "?" kind is optional.
@@ -182,7 +261,24 @@ CLAIM_FUNCTIONS = {
                    "point (the accuracy study's panel and floor, RMS over 4 seeds)"),
     "area_ratio": ((), "point-light approximation over the exact area-light irradiance, directly under the "
                        "panel's centre"),
+    "blocked": ((), "1 when the straight line from the probe to the first directed light crosses the surface "
+                    "(the point would be in its shadow; the model does not look), else 0"),
+    "sum_gap": ((CHANNELS + ("?",),), "the largest difference, over the picture's pixels, between the colour and "
+                                      "the sum of its terms (the model's numbers)"),
+    # the picture the page shows: 8-bit levels 0 to 255 of the pixels the surface covers
+    "shown_mean": ((SHOWN_TERMS, CHANNELS + ("?",)), "the mean level of the picture shown"),
+    "shown_median": ((SHOWN_TERMS, CHANNELS + ("?",)), "the median level of the picture shown"),
+    "shown_peak": ((SHOWN_TERMS, CHANNELS + ("?",)), "the highest level of the picture shown"),
+    "shown_low": ((SHOWN_TERMS, CHANNELS + ("?",)), "the lowest level of the picture shown"),
+    "shown_fraction": ((SHOWN_TERMS, "number", "number", CHANNELS + ("?",)),
+                       "the fraction of the covered pixels whose level lies from lo to hi"),
+    "shown_levels": ((SHOWN_TERMS, CHANNELS + ("?",)), "how many different levels the picture shows"),
+    "shown_probe": ((SHOWN_TERMS, CHANNELS + ("?",)), "the level of the pixel the probe is seen through"),
+    "shown_sum_gap": ((CHANNELS + ("?",),), "the mean difference, in levels, between the picture of the colour "
+                                            "and the sum of the pictures of its terms (clipped to 255)"),
 }
+#: the functions that measure the picture shown: a picture claim calls one, a model claim none
+PICTURE_FUNCTIONS = tuple(name for name in CLAIM_FUNCTIONS if name.startswith("shown_"))
 
 
 # limits: sized for teaching scenes, checked before any expensive step

@@ -209,6 +209,16 @@ def _shininess() -> tuple[Case, ...]:
     cases.append(Case("α = 1e6, eye 1° off r: nothing left", OFF, TILTED,
                       _mirror_eye(OFF, TILTED, 30, 4, off=1, hint=(0, 1, 0)),
                       pl.Material(ka=0.0, kd=0.1, ks=1.0, shininess=1e6), (light,)))
+    # r·v < 0 on a lit point: no highlight for any α; an even α tells a power taken before the clamp
+    cases.append(Case("α = 2, r·v = cos 110° < 0: no highlight", OFF, TILTED,
+                      _mirror_eye(OFF, TILTED, 30, 4, off=110, hint=(0, 1, 0)),
+                      pl.Material(ka=0.0, kd=0.1, ks=1.0, shininess=2), (light,)))
+    # α = 0: S = 1 where n·l > 0 and r·v > 0, else 0 (0 ** 0 == 1 must not light the rest)
+    flat = pl.Material(ka=0.0, kd=0.1, ks=1.0, shininess=0)
+    cases.append(Case("α = 0, r·v > 0: the full k_s I_s", OFF, TILTED,
+                      _mirror_eye(OFF, TILTED, 30, 4, off=40, hint=(0, 1, 0)), flat, (light,)))
+    cases.append(Case("α = 0, r·v < 0 on a lit point: no highlight (0 ** 0 is 1, S is 0)", OFF, TILTED,
+                      _mirror_eye(OFF, TILTED, 30, 4, off=110, hint=(0, 1, 0)), flat, (light,)))
     return tuple(cases)
 
 
@@ -339,6 +349,8 @@ def _hard() -> tuple[Case, ...]:
              (AMB, _point(_towards(OFF, n, t, -30, 3)))),
         Case("a light on the point adds nothing (no division by zero)", OFF, TILTED, _towards(OFF, n, t, 20, 4), m,
              (AMB, _point(OFF), pl.DirectionalLight(direction=_t(n + t)))),
+        Case("the eye on the point (v of length 0): no specular light, diffuse as usual", OFF, TILTED, OFF,
+             pl.Material(ka=0.1, kd=0.6, ks=0.5, shininess=1), (AMB, _point(_towards(OFF, n, t, 10, 3)))),
         Case("α = 1e6, r·v = 1 − 5e-7: e^−0.5 of the peak", OFF, TILTED,
              _mirror_eye(OFF, TILTED, 30, 4, off=math.degrees(math.acos(1 - 5e-7)), hint=(0, 1, 0)), big,
              (_point(_towards(OFF, n, t, 30, 3)),)),
@@ -362,9 +374,10 @@ GROUPS: tuple[Group, ...] = (
           "α ≤ 50 amplifies the rounding of r·v (~4e-16) at most 50-fold: ~2e-14", _specular()),
     Group("reflection", "The reflection vector r = 2(n·l)n − l", 10, 1e-8, 1e-12,
           "as for specular: α ≤ 50 times the rounding of r·v", _reflection()),
-    Group("shininess", "Shininess α from 1 to 1e6", 15, 1e-6, 1e-12,
+    Group("shininess", "Shininess α from 0 to 1e6", 15, 1e-6, 1e-12,
           "δ(c^α)/c^α ≈ α·δc: at α = 1e6 and δc ≈ 1e-15 that is 1e-9; 1e-6 allows r·v computed "
-          "in any sound way (e.g. without renormalising r)", _shininess()),
+          "in any sound way (e.g. without renormalising r); at α = 0 the weight is exactly 0 or 1",
+          _shininess()),
     Group("attenuation", "Distance attenuation 1/(a + b·d + c·d²)", 10, 1e-9, 1e-12, _EXACT_SUMS, _attenuation()),
     Group("directional", "Directional lights", 10, 1e-9, 1e-12, _EXACT_SUMS, _directional()),
     Group("spot", "Spotlights: the cone's edge and exponent", 10, 1e-8, 1e-12,
@@ -372,7 +385,8 @@ GROUPS: tuple[Group, ...] = (
           "0.01° (cos differs by 9e-5) from the cone, far beyond rounding", _spot()),
     Group("many", "Many lights and RGB", 10, 1e-9, 1e-12, _EXACT_SUMS + " (every term is >= 0: no cancellation)",
           _many()),
-    Group("hard", "Hard cases: grazing light, odd normals, a light on the point, α = 1e6", 10, 1e-6, 1e-12,
+    Group("hard", "Hard cases: grazing light, odd normals, a light or the eye on the point, α = 1e6", 10, 1e-6,
+          1e-12,
           "α = 1e6 near the peak amplifies the rounding of r·v a million-fold (~1e-9); normals of "
           "length 5 to 1e-150 normalise within a few ulps in float64", _hard()),
 )

@@ -17,9 +17,10 @@ surface point as 3 floats (R, G, B), unclamped, computed in float64:
 - ``point``, ``normal``, ``eye``: NumPy arrays of 3 float64 numbers; the
   normal may have any length (normalise it); the viewer is local,
   ``v = normalize(eye − point)``.
-- ``material``: a :class:`phonglab.Material` (``ka``, ``kd``, ``ks``,
-  ``emission`` RGB triples, ``shininess`` α ≥ 0).
-- ``lights``: a list of phonglab lights, whose ``ambient_rgb``,
+- ``material``: a read-only :class:`~phonglab.teaching.shade_helpers.Material`
+  (``ka``, ``kd``, ``ks``, ``emission`` RGB triples, ``shininess`` α ≥ 0).
+- ``lights``: a list of read-only lights of
+  :mod:`~phonglab.teaching.shade_helpers`, whose ``ambient_rgb``,
   ``diffuse_rgb`` and ``specular_rgb`` are the effective intensities
   ``Ia``, ``Id``, ``Is``: ``AmbientLight`` (adds ``ka∘Ia``; only ambient
   lights add ambient light), ``PointLight`` (``l = normalize(position − p)``,
@@ -38,8 +39,15 @@ lights=lights, eye=eye, model="phong").color``: the one-sided Phong model
         + k_s \\circ I_{s,l} S_l \\right], \\qquad r = 2(n\\cdot l)n - l,
 
 with ``S = max(0, r·v)^α`` where ``n·l > 0`` and ``r·v > 0`` and 0
-elsewhere (also for α = 0); a light on the point (``l`` of length 0) or a
-zero normal adds no diffuse or specular light.
+elsewhere (also for α = 0: ``0 ** 0`` is 1, ``S`` is not); a light on the
+point (``l`` of length 0) or a zero normal adds no diffuse or specular
+light, and an eye exactly on the point (``v`` of length 0) sees no specular
+light (``r·v = 0``).
+
+The student's process has NumPy, ``math`` and
+:mod:`phonglab.teaching.shade_helpers` (``normalize``, ``dot``,
+``reflect``), not the phonglab package: the expected colours are computed
+here, never in the sandbox.
 
 Scoring
 -------
@@ -62,13 +70,16 @@ import numpy as np
 from phonglab import core as pl
 from phonglab.teaching.grade_cases import GROUPS, Case, Group
 from phonglab.teaching import MISTAKES
-from phonglab.teaching.sandbox import Limits, LoadError, Outcome, Sandbox
+from phonglab.teaching.sandbox import (Cancel, Cancelled, Limits, LoadError, Outcome, Sandbox,
+                                       SandboxUnavailable, StudentFile, cancelled_by)
+from phonglab.teaching.worked import worked_lines
 
 __all__ = [
     "GROUPS", "Case", "Group", "CaseResult", "Diagnosis", "GroupResult", "Report",
     "expected", "within", "diagnose", "grade", "grade_file", "encode_scene",
-    "format_report", "gradescope_results", "starter_text", "case_text", "group_text",
-    "LoadError", "Limits", "Outcome", "Sandbox",
+    "format_report", "gradescope_results", "starter_text", "case_text", "group_text", "Wording", "wording",
+    "LoadError", "Limits", "Outcome", "Sandbox", "SandboxUnavailable", "StudentFile", "Cancel", "Cancelled",
+    "cancelled_by",
 ]
 
 
@@ -91,13 +102,26 @@ def _ratio(want, got, rtol, atol) -> float:
     return float(np.max(np.where(np.isfinite(err), err, np.inf)))
 
 
-def encode_scene(material: pl.Material, lights) -> dict:
-    """The material and lights as JSON for the worker, which rebuilds them with the core's classes."""
-    def fields_of(obj):
-        return {f.name: getattr(obj, f.name) for f in fields(obj)}
+#: a light's fields that its effective intensities already include
+_COLOUR_FIELDS = ("color", "intensity", "diffuse", "specular")
 
-    return {"material": fields_of(material),
-            "lights": [{"type": type(lt).__name__, **fields_of(lt)} for lt in lights]}
+
+def encode_scene(material: pl.Material, lights) -> dict:
+    """The material and lights as JSON for the worker, which rebuilds them as ``shade_helpers`` objects.
+
+    Only what the contract names travels: the material's ``ka``, ``kd``,
+    ``ks``, ``emission`` and ``shininess``; each light's class name, its
+    geometry and its effective intensities ``ambient_rgb``, ``diffuse_rgb``
+    and ``specular_rgb``.
+    """
+    def light(lt):
+        data = {"type": type(lt).__name__}
+        data.update({f.name: getattr(lt, f.name) for f in fields(lt) if f.name not in _COLOUR_FIELDS})
+        data.update(ambient_rgb=lt.ambient_rgb, diffuse_rgb=lt.diffuse_rgb, specular_rgb=lt.specular_rgb)
+        return data
+
+    return {"material": {name: getattr(material, name) for name in ("ka", "kd", "ks", "emission", "shininess")},
+            "lights": [light(lt) for lt in lights]}
 
 
 @dataclass(frozen=True)
@@ -172,6 +196,37 @@ class Report:
         return list(dict.fromkeys(names))
 
 
+@dataclass(frozen=True)
+class Wording:
+    """How a mistake reads to a student who wrote ``shade`` for one point."""
+
+    title: str
+    looks_like: str
+    wrong: str
+    right: str
+
+
+#: mistakes whose catalogue wording speaks of another setting, in the terms of the exercise
+#: (the catalogue's "interpolated normals" are the normal argument here: same numbers, another line)
+EXERCISE_WORDING = {
+    "unnormalised-normals": Wording(
+        "The normal not normalised",
+        "n·l and r·v scale with the normal's length: too dark where it is shorter than 1, too bright where "
+        "it is longer, and a highlight dims or blows up.",
+        "n = normal",
+        "n = normalize(normal)",
+    ),
+}
+
+
+def wording(name: str) -> Wording:
+    """The mistake ``name`` in the exercise's terms (the catalogue's own wording unless it speaks of another setting)."""
+    if name in EXERCISE_WORDING:
+        return EXERCISE_WORDING[name]
+    m = MISTAKES[name]
+    return Wording(m.title, m.looks_like, m.wrong, m.right)
+
+
 def _mistake_color(mistake, case: Case) -> np.ndarray | None:
     try:
         s = mistake.shade(np.array([case.point], np.float64), np.array([case.normal], np.float64),
@@ -213,9 +268,10 @@ def diagnose(group: Group, results) -> Diagnosis | None:
         return None
     counts = {name: (c, matches(MISTAKES[name], right)) for name, (c, _) in counts.items() if c == best_count}
     top = max(counts.values())
-    best, *equally = [MISTAKES[name] for name, count in counts.items() if count == top]
-    return Diagnosis(best.name, best.title, best.looks_like, best.wrong, best.right, best_count, len(wrong),
-                     tuple(m.name for m in equally))
+    best, *equally = [name for name, count in counts.items() if count == top]
+    said = wording(best)
+    return Diagnosis(best, said.title, said.looks_like, said.wrong, said.right, best_count, len(wrong),
+                     tuple(equally))
 
 
 def grade(outcomes, groups=GROUPS, *, source: str = "", isolation=()) -> Report:
@@ -248,11 +304,20 @@ def grade(outcomes, groups=GROUPS, *, source: str = "", isolation=()) -> Report:
 def grade_file(path, limits: Limits = Limits(), groups=GROUPS) -> Report:
     """Run the student's file in the sandbox on every case and grade it.
 
+    Parameters
+    ----------
+    path : path or StudentFile
+        The student's file, or its text held in memory (the page's paste).
+
     Raises
     ------
     LoadError
         When the file cannot be loaded (syntax error, import error, no
         ``shade``), with the reason on one line.
+    SandboxUnavailable
+        When this machine cannot make the sandbox (the reason says what to install).
+    Cancelled
+        When the grading's :class:`~phonglab.teaching.sandbox.Cancel` was flipped.
     """
     outcomes = []
     with Sandbox(path, limits) as box:
@@ -263,7 +328,8 @@ def grade_file(path, limits: Limits = Limits(), groups=GROUPS) -> Report:
                                         scene=encode_scene(case.material, case.lights))
             outcomes.append(answers)
         isolation = box.isolation
-    return grade(outcomes, groups, source=str(path), isolation=isolation)
+    source = path.name if isinstance(path, StudentFile) else str(path)
+    return grade(outcomes, groups, source=source, isolation=isolation)
 
 
 def starter_text() -> str:
@@ -321,6 +387,7 @@ def group_text(g: GroupResult) -> str:
         errors = sorted({c.error for c in g.cases if c.error and c.error != worst.error})
         for e in errors[:3]:
             lines.append(f"    also: {e}")
+        lines += ["    worked answer (what the model used):"] + [f"      {x}" for x in worked_lines(worst.case)]
     d = g.diagnosis
     if d is not None:
         lines.append(f"  diagnosis: this looks like the mistake \"{d.name}\" ({d.title}), matching "
@@ -328,8 +395,11 @@ def group_text(g: GroupResult) -> str:
         lines.append(f"    wrong: {d.wrong}")
         lines.append(f"    right: {d.right}")
         lines.append(f"    what it looks like: {d.looks_like}")
+        if worst is not None:
+            lines += ["    that mistake's answer to the worst case:"] + [
+                f"      {x}" for x in worked_lines(worst.case, MISTAKES[d.name])]
         for name in d.equally:
-            m = MISTAKES[name]
+            m = wording(name)
             lines.append(f"  or, with the same numbers in every case here, the mistake \"{name}\" ({m.title})")
             lines.append(f"    wrong: {m.wrong}")
             lines.append(f"    right: {m.right}")

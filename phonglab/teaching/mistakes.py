@@ -65,6 +65,7 @@ __all__ = [
     "attenuated_ambient",
     "spot_cutoff_in_degrees",
     "power_before_max",
+    "zero_to_the_zero",
 ]
 
 
@@ -84,6 +85,9 @@ def lambert_unclamped(nl):
     return nl
 
 
+lambert_unclamped.formula = "n·l"
+
+
 def specular_lobe_ungated(nl, c, shininess):
     """WRONG specular weight: ``max(0, c)^α`` wherever ``c > 0``, whatever the sign of ``n·l``.
 
@@ -92,12 +96,18 @@ def specular_lobe_ungated(nl, c, shininess):
     return np.where(c > 0, np.maximum(c, 0) ** shininess, 0)
 
 
+specular_lobe_ungated.formula = ("if", ("c",), ("pow", ("max0", "c"), "α"))
+
+
 def specular_lobe_zero_exponent(nl, c, shininess):
     """WRONG specular weight: ``max(0, c)^0``, which is 1 at every lit point (0^0 = 1 too).
 
     Correct: :func:`specular_lobe`, with the material's α.
     """
     return np.where(nl > 0, np.maximum(c, 0) ** 0.0, 0)
+
+
+specular_lobe_zero_exponent.formula = ("if", ("n·l",), ("pow", ("max0", "c"), 0))
 
 
 def reflect_reversed(l, n):
@@ -125,6 +135,9 @@ def ambient_attenuated(ka_ia, f_lights):
     return ka_ia * f_lights[0] if f_lights else ka_ia
 
 
+ambient_attenuated.formula = ("mul", "f_lamp", "k_a", "I_a")  # with no lamp the record shows the value
+
+
 def spot_cone_degrees(cos_axis, *, cutoff, exponent):
     """WRONG spotlight cone: ``−l·s ≥ cutoff``, a cosine against an angle in degrees (correct: :func:`spot_cone`).
 
@@ -145,6 +158,21 @@ def specular_lobe_power_first(nl, c, shininess):
     """
     with np.errstate(invalid="ignore"):
         return np.where(nl > 0, np.fmax(c ** shininess, 0), 0)
+
+
+specular_lobe_power_first.formula = ("if", ("n·l",), ("max0", ("pow", "c", "α")))
+
+
+def specular_lobe_zero_power(nl, c, shininess):
+    """WRONG specular weight: ``max(0, c)^α`` where ``n·l > 0``, with no ``c > 0`` test: 1 where ``c ≤ 0`` at α = 0.
+
+    For α > 0 it equals the correct weight; at α = 0, ``0^0 = 1`` lights
+    every lit point. Correct: :func:`specular_lobe`, 0 where ``c ≤ 0``.
+    """
+    return np.where(nl > 0, np.maximum(c, 0) ** shininess, 0)
+
+
+specular_lobe_zero_power.formula = ("if", ("n·l",), ("pow", ("max0", "c"), "α"))
 
 
 def _with_step(points, normals, shade_args, **step):
@@ -408,6 +436,29 @@ def power_before_max(points, normals, **shade_args):
     return _with_step(points, normals, shade_args, specular_weight=specular_lobe_power_first)
 
 
+def zero_to_the_zero(points, normals, **shade_args):
+    """At α = 0, ``max(0, r·v) ** 0`` is 1 also where ``r·v ≤ 0``: specular on the whole lit side.
+
+    **What is wrong.** The clamp alone is trusted to remove the highlight
+    where ``r`` points away from the eye::
+
+        specular = ks * Is * max(0, dot(r, v)) ** alpha            # wrong at alpha = 0
+
+    That holds for every α > 0, but at α = 0 the clamped 0 is raised to the
+    power 0, and ``0 ** 0`` is 1 (in Python, NumPy and C): every lit point
+    gets the full ``k_s I_s``, a flat pale layer over the whole lit side,
+    instead of a wash that ends where ``r·v`` reaches 0.
+
+    **The correct line.** Where ``r·v ≤ 0`` the specular weight is 0, for
+    every α::
+
+        specular = ks * Is * dot(r, v) ** alpha if dot(r, v) > 0 else 0   # right
+
+    Parameters and returns are those of :func:`phonglab.core.shade`.
+    """
+    return _with_step(points, normals, shade_args, specular_weight=specular_lobe_zero_power)
+
+
 @dataclass(frozen=True)
 class Mistake:
     """A named common mistake, as a lesson's ``mistake = "..."`` refers to it.
@@ -536,6 +587,14 @@ MISTAKES = {
             "specular = ks * Is * max(0, dot(r, v) ** alpha)",
             "specular = ks * Is * max(0, dot(r, v)) ** alpha",
             power_before_max,
+        ),
+        Mistake(
+            "zero-to-the-zero",
+            "0 ** 0 = 1 at shininess α = 0",
+            "At α = 0 the whole lit side gets the full specular layer, also where r points away from the eye.",
+            "specular = ks * Is * max(0, dot(r, v)) ** alpha",
+            "specular = ks * Is * dot(r, v) ** alpha if dot(r, v) > 0 else 0",
+            zero_to_the_zero,
         ),
     )
 }

@@ -1,29 +1,32 @@
-"""The worker process of :mod:`phonglab.teaching.sandbox`: runs a student's ``shade``.
+"""The worker of :mod:`phonglab.teaching.sandbox`: runs a student's ``shade`` inside the sandbox.
 
-Run as a script, never imported by the grader::
+Run by the sandbox, never imported by the grader::
 
-    python -I -B sandbox_worker.py PHONGLAB_ROOT STUDENT_FILE SANDBOX_DIR
+    python -I -S -B /grader/worker.py /sandbox/STUDENT.py MEMORY_BYTES CPU_SECONDS
 
-It talks to the grader over its standard input and output, one JSON object
-per line:
+It sees only what the sandbox binds: the standard library, NumPy in
+``/grader/site``, this file and ``/grader/shade_helpers.py``. It imports
+nothing of phonglab (the package is not there). It talks to the grader over
+its standard input and output, one JSON object per line:
 
-1. it imports NumPy and :mod:`phonglab.core` (what every case needs), then
-   installs the audit hook (:func:`install_audit_hook`) and answers
+1. it imports NumPy and the helper module, lowers its resource limits for
+   good (address space, CPU time, 64 open files, files may not grow, no core
+   dumps: without capabilities they cannot be raised again) and answers
    ``{"ready": true}``;
-2. it imports the student's file (a copy inside the sandbox folder) and
-   answers ``{"loaded": true}`` or ``{"load_error": "one line"}``;
+2. it imports the student's file and answers ``{"loaded": true}`` or
+   ``{"load_error": "one line"}``;
 3. for every request ``{"points", "normals", "eye", "material", "lights"}``
-   it calls ``shade(point, normal, eye, material, lights)`` once per point
-   and answers ``{"results": [...]}``: per point either ``[r, g, b]`` or the
+   it calls ``shade(point, normal, eye, material, lights)`` once per point,
+   with the material and lights as :mod:`shade_helpers` objects, and
+   answers ``{"results": [...]}``: per point either ``[r, g, b]`` or the
    one-line error message (a string).
 
-The student's code cannot read the grader's pipes through ``input()`` or
-``print()``: the pipes are moved to new file descriptors, standard input
-reads ``/dev/null`` and whatever the student prints is dropped.
+The student's ``input()`` and ``print()`` do not reach the grader's pipes:
+those are moved to new file descriptors, standard input reads ``/dev/null``
+and whatever the student prints or writes to standard error is dropped.
 """
 
-from __future__ import annotations
-
+import errno
 import json
 import os
 import sys
@@ -31,101 +34,21 @@ import traceback
 
 #: how long a student's message may be in the report
 MESSAGE_CHARS = 300
-
-#: audit events refused outright once the student's code may run (prefix match)
-REFUSED_EVENTS = (
-    "subprocess.", "os.system", "os.exec", "os.spawn", "os.posix_spawn", "os.fork", "os.forkpty",
-    "pty.", "os.kill", "os.killpg", "signal.pthread_kill", "socket.", "ctypes.", "resource.",
-    "os.remove", "os.rename", "os.rmdir", "os.mkdir", "os.chmod", "os.chown", "os.chflags",
-    "os.symlink", "os.link", "os.truncate", "os.utime", "os.setxattr", "os.removexattr",
-    "os.chdir", "os.chroot", "os.putenv", "os.unsetenv", "shutil.", "webbrowser.", "urllib.",
-    "http.", "ftplib.", "smtplib.", "imaplib.", "poplib.", "nntplib.", "telnetlib.",
-    "sys.addaudithook", "sys.settrace", "sys.setprofile", "_winapi.", "winreg.",
-)
-
-#: modules the student may not import (those not already loaded by NumPy)
-REFUSED_MODULES = frozenset({
-    "_posixsubprocess", "subprocess", "socket", "_socket", "ssl", "_ssl", "multiprocessing",
-    "_multiprocessing", "pty", "cffi", "_cffi_backend", "_testcapi", "_testinternalcapi",
-    "_xxsubinterpreters", "_xxinterpchannels", "asyncio", "selectors", "select", "mmap",
-})
-
-#: lights the requests may name
-LIGHT_KINDS = ("AmbientLight", "PointLight", "DirectionalLight", "SpotLight")
+#: where the sandbox puts NumPy and the helper module
+GRADER_DIR = "/grader"
+SITE_DIR = GRADER_DIR + "/site"
+#: what a student who reaches for the package is told
+NO_PHONGLAB = ("phonglab is not available in a graded exercise: write the model with NumPy, math and "
+               "shade_helpers (normalize, dot, reflect)")
+#: what a refused system call means here
+REFUSED = "refused by the grader's sandbox: shade needs no files, programs, signals or network"
 
 
 class NoShade(Exception):
     """The student's file loaded but defines no callable ``shade``."""
 
 
-def _inside(path: str, roots) -> bool:
-    return any(path == root or path.startswith(root + os.sep) for root in roots)
-
-
-def install_audit_hook(read_roots, sandbox: str) -> None:
-    """Refuse file access outside the sandbox, new processes, sockets and ctypes.
-
-    - ``open`` (and ``os.listdir``/``os.scandir``) of a path: reading is
-      allowed inside the sandbox and below ``read_roots`` (Python's standard
-      library, site-packages and the phonglab package, for imports); writing
-      only inside the sandbox (where RLIMIT_FSIZE 0 still stops any byte).
-      Paths are resolved with ``realpath`` first, so ``..`` and symlinks do
-      not lead out.
-    - every event in :data:`REFUSED_EVENTS`; importing a module of
-      :data:`REFUSED_MODULES`.
-
-    An audit hook cannot be removed once added. It is not a complete sandbox:
-    code that reaches C without an audit event (a compiled extension already
-    loaded, a bug in CPython) is not seen by it; the resource limits and the
-    network namespace set by the grader are the other walls.
-    """
-    sandbox = os.path.realpath(sandbox)
-    readable = tuple(sorted({os.path.realpath(r) for r in read_roots} | {sandbox}))
-    busy = []  # realpath() may itself raise events: no recursion
-
-    def where(path) -> str:
-        if isinstance(path, bytes):
-            path = os.fsdecode(path)
-        return os.path.realpath(os.path.join(sandbox, os.fspath(path)))
-
-    def hook(event, args):
-        if busy:
-            return
-        if event == "open":
-            path, _, flags = args
-            if path is None or isinstance(path, int):
-                return  # an already open file descriptor
-            busy.append(1)
-            try:
-                full = where(path)
-            finally:
-                busy.pop()
-            writing = isinstance(flags, int) and flags & (os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_APPEND | os.O_TRUNC)
-            if writing and not _inside(full, (sandbox,)):
-                raise PermissionError(f"sandbox: writing {full} is not allowed (only the sandbox folder)")
-            if not _inside(full, readable):
-                raise PermissionError(f"sandbox: reading {full} is not allowed (outside the sandbox)")
-        elif event in ("os.listdir", "os.scandir"):
-            path = args[0] if args and args[0] is not None else "."
-            if isinstance(path, int):
-                return
-            busy.append(1)
-            try:
-                full = where(path)
-            finally:
-                busy.pop()
-            if not _inside(full, readable):
-                raise PermissionError(f"sandbox: listing {full} is not allowed (outside the sandbox)")
-        elif event == "import":
-            if str(args[0]).split(".")[0] in REFUSED_MODULES:
-                raise PermissionError(f"sandbox: importing {args[0]} is not allowed in a graded exercise")
-        elif event.startswith(REFUSED_EVENTS):
-            raise PermissionError(f"sandbox: {event} is not allowed in a graded exercise")
-
-    sys.addaudithook(hook)
-
-
-def one_line(exc: BaseException, student_file: str, shown_name: str) -> str:
+def one_line(exc, student_file, shown_name):
     """``Type: message (line N)``, the line being the last one in the student's file."""
     line = None
     for frame in traceback.extract_tb(exc.__traceback__):
@@ -134,8 +57,12 @@ def one_line(exc: BaseException, student_file: str, shown_name: str) -> str:
     if isinstance(exc, SyntaxError) and exc.filename == student_file:
         line = exc.lineno
         text = f"{type(exc).__name__}: {exc.msg}"
+    elif isinstance(exc, ImportError) and str(getattr(exc, "name", "") or "").split(".")[0] == "phonglab":
+        text = f"{type(exc).__name__}: {NO_PHONGLAB}"
     else:
         text = f"{type(exc).__name__}: {exc}".rstrip(": ")
+        if isinstance(exc, OSError) and exc.errno == errno.EPERM:
+            text += f" ({REFUSED})"
     text = " ".join(text.split())
     if len(text) > MESSAGE_CHARS:
         text = text[: MESSAGE_CHARS - 1] + "…"
@@ -170,48 +97,48 @@ def _as_rgb(value, np):
     return [float(x) for x in a.astype(np.float64)]
 
 
-def main(argv) -> int:
-    phonglab_root, student_file, sandbox = argv[1:4]
-    # the grader's pipes on new descriptors; the student's stdin/stdout go nowhere
+def _limit(memory, cpu):
+    """The resource limits, soft = hard: without capabilities nothing in the sandbox can raise them."""
+    import resource
+    import signal
+
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past RLIMIT_FSIZE fails instead of killing us
+    for which, value in ((resource.RLIMIT_AS, memory), (resource.RLIMIT_CPU, cpu), (resource.RLIMIT_NOFILE, 64),
+                         (resource.RLIMIT_FSIZE, 0), (resource.RLIMIT_CORE, 0)):
+        resource.setrlimit(which, (value, value))
+
+
+def main(argv):
+    student_file, memory, cpu = argv[1], int(argv[2]), int(argv[3])
+    # the grader's pipes on new descriptors; the student's stdin/stdout/stderr go nowhere
     requests = os.fdopen(os.dup(0), "rb")
     replies = os.fdopen(os.dup(1), "w", encoding="utf-8")
     null = os.open(os.devnull, os.O_RDWR)
-    os.dup2(null, 0)
-    os.dup2(null, 1)
+    for fd in (0, 1, 2):
+        os.dup2(null, fd)
+    os.close(null)
     sys.stdin = open(os.devnull)
-    sys.stdout = _Sink()
-    import importlib.util
-    import signal
-    import sysconfig
-
-    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past RLIMIT_FSIZE fails instead of killing us
+    sys.stdout = sys.stderr = _Sink()
 
     def reply(obj):
         replies.write(json.dumps(obj) + "\n")
         replies.flush()
 
-    # what every case needs, imported before the hook
-    sys.path.insert(0, phonglab_root)
+    sys.path[:0] = [SITE_DIR, GRADER_DIR]
+    import importlib.util
+
     import numpy as np
 
-    import phonglab.core as core
+    import shade_helpers
 
-    def not_here(*args, **kwargs):
-        raise RuntimeError("phonglab's own shading is not available in a graded exercise: write the model yourself")
-
-    for module in (sys.modules["phonglab"], core, sys.modules["phonglab.core.shading"]):
-        module.shade = not_here
-    paths = sysconfig.get_paths()
-    roots = {paths[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")}
-    roots |= {os.path.dirname(os.path.dirname(np.__file__)), os.path.dirname(core.__path__[0])}
-    os.chdir(sandbox)
-    install_audit_hook(roots, sandbox)
+    _limit(memory, cpu)
     reply({"ready": True})
 
     shown_name = os.path.basename(student_file)
     try:
         spec = importlib.util.spec_from_file_location("student", student_file)
         module = importlib.util.module_from_spec(spec)
+        sys.modules["student"] = module
         spec.loader.exec_module(module)
         shade = getattr(module, "shade", None)
         if not callable(shade):
@@ -223,13 +150,8 @@ def main(argv) -> int:
 
     for line in requests:
         request = json.loads(line)
-        material = core.Material(**request["material"])
-        lights = []
-        for spec_ in request["lights"]:
-            kind = spec_.pop("type")
-            if kind not in LIGHT_KINDS:
-                raise ValueError(f"unknown light type {kind!r}")
-            lights.append(getattr(core, kind)(**spec_))
+        material = shade_helpers.material_from(request["material"])
+        lights = [shade_helpers.light_from(spec_) for spec_ in request["lights"]]
         eye = np.array(request["eye"], dtype=np.float64)
         results = []
         for point, normal in zip(request["points"], request["normals"]):

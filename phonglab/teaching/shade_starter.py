@@ -19,11 +19,13 @@ over-exposed, not wrong). Use float64 throughout.
 - ``point``, ``normal``, ``eye``: NumPy arrays of 3 float64 numbers. The
   normal may have any length: normalise it. The viewer is at ``eye``:
   ``v = normalize(eye - point)``.
-- ``material``: a ``phonglab.Material``; ``material.ka``, ``.kd``, ``.ks``
-  and ``.emission`` are RGB triples, ``material.shininess`` is α ≥ 0.
-- ``lights``: a list of phonglab lights. ``light.ambient_rgb``,
+- ``material``: read-only; ``material.ka``, ``.kd``, ``.ks`` and
+  ``.emission`` are RGB triples, ``material.shininess`` is α ≥ 0.
+- ``lights``: a list of read-only lights. ``light.ambient_rgb``,
   ``light.diffuse_rgb`` and ``light.specular_rgb`` are its effective
-  intensities ``Ia``, ``Id``, ``Is`` (RGB triples).
+  intensities ``Ia``, ``Id``, ``Is`` (RGB triples). Tell them apart with
+  ``type(light).__name__`` or ``isinstance(light, shade_helpers.PointLight)``
+  (a ``SpotLight`` is also a ``PointLight``).
 
   * ``AmbientLight``: adds ``ka ∘ ambient_rgb``, nothing else. Only
     ambient lights add ambient light.
@@ -47,15 +49,21 @@ The model, one-sided Phong, every product per RGB channel (``∘``)::
 
 ``Ia`` is the sum of the ambient lights' ``ambient_rgb``; ``ke`` is
 ``material.emission``; every direction is a unit vector pointing *away from
-the point* (towards the light, towards the eye). Guards: a light exactly on
-the point (``l`` of length 0) or a normal of length 0 adds no diffuse or
-specular light.
+the point* (towards the light, towards the eye). At α = 0, ``S`` is 1 where
+``n·l > 0`` and ``r·v > 0`` and 0 elsewhere, although ``max(0, r·v) ** 0``
+is 1 also where ``r·v ≤ 0`` (``0 ** 0 == 1``). Guards: a light exactly on the point
+(``l`` of length 0) or a normal of length 0 adds no diffuse or specular
+light; an eye exactly on the point (``v`` of length 0) sees no specular
+light (``r·v`` is 0 there).
 
-You may use NumPy, ``math`` and phonglab's vector helpers
-(``phonglab.normalize``, ``phonglab.dot``, ``phonglab.reflect``), but not
-``phonglab.shade``: that is what you are writing. Your file runs in a
-separate process that may not open other files, start programs or use the
-network; ``print`` output is not shown.
+You may use NumPy, ``math`` and the grader's helpers::
+
+    from shade_helpers import normalize, dot, reflect
+
+(``normalize`` keeps a zero vector zero). The phonglab package is not
+available while grading: this is the model you are writing. Your file runs
+in a sandbox with no files to open, no programs, no network and no new
+processes; ``print`` output is not shown.
 """
 
 import numpy as np
@@ -68,14 +76,16 @@ def shade(point, normal, eye, material, lights):
     ----------
     point, normal, eye : numpy.ndarray, shape (3,), float64
         The surface point, its normal (any length) and the viewer's position.
-    material : phonglab.Material
+    material : read-only material
         ``ka``, ``kd``, ``ks``, ``emission`` (RGB triples) and ``shininess``.
-    lights : list of phonglab lights
+    lights : list of read-only lights
         ``AmbientLight``, ``PointLight``, ``DirectionalLight``, ``SpotLight``.
 
     Returns
     -------
     numpy.ndarray or sequence of 3 floats
-        ``ke + ka∘Ia + Σ f [kd∘Id max(0, n·l) + ks∘Is max(0, r·v)^α]``.
+        ``ke + ka∘Ia + Σ f [kd∘Id max(0, n·l) + ks∘Is S]``, with
+        ``S = max(0, r·v)^α`` where ``n·l > 0`` and ``r·v > 0``, else 0
+        (also at α = 0 and for an eye on the point).
     """
     raise NotImplementedError("write the Phong model here")

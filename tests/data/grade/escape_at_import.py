@@ -1,4 +1,4 @@
-"""A file that reads /etc/passwd as it is imported: refused, so the file cannot be loaded."""
+"""A file that reads /etc/passwd as it is imported: there is no /etc in the sandbox, so the file cannot be loaded."""
 
 with open("/etc/passwd") as f:
     SECRET = f.read()

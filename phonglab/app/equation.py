@@ -1,0 +1,138 @@
+"""The record's formulas as LaTeX: in symbols, and with the recorded numbers substituted.
+
+A formula of :mod:`phonglab.core.record` is a value's name, a number, or
+``(operator, *operands)``. :func:`symbols` writes it in the lesson's
+symbols (``f\\, k_d I_d \\max(0, n\\cdot l)``), :func:`numbers` with each
+name replaced by its value at the probe (``1.000 \\cdot 0.80 \\cdot 1.00
+\\cdot \\max(0, 0.963)``). Nothing is computed here: the values are the
+record's and each gate is resolved by the core (:func:`~phonglab.core.record.resolve`).
+
+How numbers are written, so that a reader (and the tests) can tell the
+precision of each: a coefficient or intensity (``k_a`` ... ``I_s``) with 2
+decimals, any other value with 3, a value of 10⁴ or more as ``d.ddd × 10^k``;
+an RGB triple whose channels read the same as one number; a whole number (an
+integer exponent, the 0 of ``max(0, ·)``) is exact; α with 2 decimals unless
+it is a whole number.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: how each recorded name is written in the lesson's symbols (others: as they are, or as text)
+SYMBOLS = {
+    "n·l": r"n\cdot l", "r·v": r"r\cdot v", "n·h": r"n\cdot h", "n·v": r"n\cdot v",
+    "α": r"\alpha", "f_lamp": r"f_{\text{lamp}}", "diffuse weight": "w_d", "specular weight": "w_s",
+    "ambient": r"k_a I_a", "emission": "k_e", "attenuation": r"f_{\text{att}}", "spot": r"f_{\text{spot}}",
+}
+#: names written with 2 decimals (the coefficients and intensities of the lesson's tables)
+TWO_DECIMALS = {"k_a", "k_d", "k_s", "k_e", "I_a", "I_d", "I_s"}
+#: from this magnitude on, a number is written as d.ddd × 10^k
+SCIENTIFIC = 1e4
+
+
+def symbol(name: str) -> str:
+    """A recorded name in the lesson's symbols: ``n·l`` -> ``n\\cdot l``; an unknown word as text."""
+    if name in SYMBOLS:
+        return SYMBOLS[name]
+    if len(name) == 1 or (len(name) == 3 and name[1] == "_"):
+        return name
+    return rf"\text{{{name}}}"
+
+
+def number(x: float, digits: int = 3) -> str:
+    """One number as LaTeX with ``digits`` decimals (see the module's rules)."""
+    x = float(x)
+    if math.isnan(x):
+        return r"\text{NaN}"
+    if math.isinf(x):
+        return r"\infty" if x > 0 else r"-\infty"
+    if abs(x) >= SCIENTIFIC:
+        mantissa, exponent = f"{x:.3e}".split("e")
+        return rf"{mantissa} \times 10^{{{int(exponent)}}}"
+    text = f"{x:.{digits}f}"
+    return "0" + text[2:] if text.startswith("-0") and float(text) == 0 else text
+
+
+def exponent(alpha: float) -> str:
+    """An exponent: a whole number as it is (exact), else with 2 decimals."""
+    alpha = float(alpha)
+    return f"{alpha:.0f}" if alpha == round(alpha) and abs(alpha) < 1e15 else number(alpha, 2)
+
+
+def value(x, digits: int = 3) -> str:
+    """A scalar, or an RGB triple (one number when its channels read the same)."""
+    x = np.asarray(x, dtype=np.float64)
+    if x.ndim == 0:
+        return number(x, digits)
+    texts = [number(c, digits) for c in x]
+    if len(set(texts)) == 1:
+        return texts[0]
+    return r"\left(" + ", ".join(texts) + r"\right)"
+
+
+def _leaf_number(name: str, x) -> str:
+    if name == "α":
+        return exponent(x)
+    return value(x, 2 if name in TWO_DECIMALS else 3)
+
+
+def _negative(text: str) -> bool:
+    return text.startswith("-")
+
+
+def symbols(formula) -> str:
+    """``formula`` in the lesson's symbols (a gate is written as what it guards)."""
+    if isinstance(formula, str):
+        return symbol(formula)
+    if not isinstance(formula, tuple):
+        return exponent(formula)
+    operator, *operands = formula
+    if operator == "if":
+        return symbols(operands[1])
+    if operator == "mul":
+        names = [symbols(x) for x in operands]
+        if operands[0] == "f" and len(names) > 1:  # f\, k_d I_d ...: a thin space after the light factor
+            names[0] = r"f\,"
+        return " ".join(names)
+    if operator == "add":
+        return " + ".join(symbols(x) for x in operands)
+    if operator == "div":
+        return rf"\frac{{{symbols(operands[0])}}}{{{symbols(operands[1])}}}"
+    if operator == "max0":
+        return rf"\max(0, {symbols(operands[0])})"
+    base, power = operands
+    return _power(symbols(base), symbols(power), plain=isinstance(base, str) and len(symbol(base)) == 1,
+                  grouped=isinstance(base, tuple) and base[0] == "max0")
+
+
+def _power(base: str, power: str, *, plain: bool, grouped: bool) -> str:
+    """``base^power``: a plain number or letter as it is, ``max(...)`` in braces, anything else in brackets."""
+    if not plain and not grouped:
+        base = rf"\left({base}\right)"
+    return rf"{{{base}}}^{{{power}}}"
+
+
+def numbers(formula, lookup) -> str:
+    """``formula`` with every name replaced by its value, ``lookup(name)`` (gates already resolved)."""
+    if isinstance(formula, str):
+        return _leaf_number(formula, lookup(formula))
+    if not isinstance(formula, tuple):
+        return exponent(formula)
+    operator, *operands = formula
+    if operator == "if":  # a gate left in: written as what it guards
+        return numbers(operands[1], lookup)
+    parts = [numbers(x, lookup) for x in operands]
+    if operator in ("mul", "add"):
+        # a negative factor or addend in brackets: "1.000 · (−0.300)"
+        parts = [rf"\left({p}\right)" if _negative(p) and i else p for i, p in enumerate(parts)]
+        return (r" \cdot " if operator == "mul" else " + ").join(parts)
+    if operator == "div":
+        return rf"\frac{{{parts[0]}}}{{{parts[1]}}}"
+    if operator == "max0":
+        return rf"\max(0, {parts[0]})"
+    base, power = parts
+    leaf = isinstance(operands[0], str) and not _negative(base) and r"\left(" not in base and "\\" not in base
+    return _power(base, power, plain=leaf, grouped=isinstance(operands[0], tuple) and operands[0][0] == "max0")
