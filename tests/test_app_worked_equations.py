@@ -47,7 +47,7 @@ class Symbolic(Exception):
 
 
 def tokens(element) -> list:
-    """The element's content as a flat list: ('num', text), ('op', text), ('pow', base, exp), ('frac', a, b)."""
+    """The element's content as a flat list: ('num', text), ('op', text), ('pow', base, exp), ('frac', a, b), ('sqrt', x)."""
     tag = element.tag.removeprefix(MATH)
     children = list(element)
     if tag == "mn":
@@ -62,6 +62,8 @@ def tokens(element) -> list:
         return [("pow", tokens(children[0]), tokens(children[1]))]
     if tag == "mfrac":
         return [("frac", tokens(children[0]), tokens(children[1]))]
+    if tag == "msqrt":
+        return [("sqrt", [t for child in children for t in tokens(child)])]
     out = []
     for child in children:
         out += tokens(child)
@@ -153,6 +155,10 @@ class Parser:
             return power(Parser(item[1]).parse(), Parser(item[2]).parse())
         if kind == "frac":
             return _corners(np.divide, Parser(item[1]).parse(), Parser(item[2]).parse())
+        if kind == "sqrt":  # increasing: the ends' roots (NaN below 0, as NumPy gives it)
+            lo, hi = Parser(item[1]).parse()
+            with np.errstate(invalid="ignore"):
+                return np.sqrt(lo), np.sqrt(hi)
         text = item[1]
         if text == "∞":
             return np.full(3, np.inf), np.full(3, np.inf)
@@ -191,11 +197,25 @@ def sides(math_text: str) -> list:
     groups.append(current)
     out = []
     for group in groups:
+        if _has_symbol(group):  # the formula in symbols (its products may be written side by side)
+            out.append(None)
+            continue
         try:
             out.append(Parser(group).parse())
         except Symbolic:
             out.append(None)
     return out
+
+
+def _has_symbol(items) -> bool:
+    for item in items:
+        if item[0] == "sym":
+            return True
+        if item[0] in ("pow", "frac") and (_has_symbol(item[1]) or _has_symbol(item[2])):
+            return True
+        if item[0] == "sqrt" and _has_symbol(item[1]):
+            return True
+    return False
 
 
 def meets(a, b) -> bool:

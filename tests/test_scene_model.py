@@ -191,7 +191,8 @@ def test_replace_bad_field_path(scene, path, value, words):
         ("material.shininess", -3, "material.shininess: must be a finite number >= 0, got -3"),
         ("material.ks", "high", 'material.ks: must be a finite number >= 0 or a list of 3 of them (RGB), got "high"'),
         ("camera.eye", [0, 0], "camera.eye: must be a list of 3 finite numbers, got [0, 0]; 2 given"),
-        ("model", "phon", 'model: must be one of "phong", "blinn-phong", got "phon"; did you mean "phong"?'),
+        ("model", "phon", 'model: must be one of "phong", "blinn-phong", "cook-torrance", got "phon"; '
+                           'did you mean "phong"?'),
         ("lights[3].cutoff", 95, "lights[3].cutoff: must be a half-angle in degrees in (0, 90], or 180"),
         ("geometry.resolution", 1.5, "geometry.resolution: must be a whole number from 3 to 1024, got 1.5"),
     ],

@@ -26,6 +26,8 @@ SYMBOLS = {
     "n·l": r"n\cdot l", "r·v": r"r\cdot v", "n·h": r"n\cdot h", "n·v": r"n\cdot v",
     "α": r"\alpha", "f_lamp": r"f_{\text{lamp}}", "diffuse weight": "w_d", "specular weight": "w_s",
     "ambient": r"k_a I_a", "emission": "k_e", "attenuation": r"f_{\text{att}}", "spot": r"f_{\text{spot}}",
+    # Cook–Torrance
+    "v·h": r"v\cdot h", "π": r"\pi", "α_GGX": r"\alpha", "F₀": "F_0", "k_D": "(1 - F)(1 - m)",
 }
 #: names written with 2 decimals (the coefficients and intensities of the lesson's tables)
 TWO_DECIMALS = {"k_a", "k_d", "k_s", "k_e", "I_a", "I_d", "I_s"}
@@ -83,6 +85,16 @@ def _negative(text: str) -> bool:
     return text.startswith("-")
 
 
+def _sum(operand) -> bool:
+    """A sum or difference: bracketed where it is a factor."""
+    return isinstance(operand, tuple) and operand[0] in ("add", "sub")
+
+
+def _sqrt(formula) -> bool:
+    return isinstance(formula, tuple) and formula[0] == "pow" and not isinstance(formula[2], (str, tuple)) \
+        and float(formula[2]) == 0.5
+
+
 def symbols(formula) -> str:
     """``formula`` in the lesson's symbols (a gate is written as what it guards)."""
     if isinstance(formula, str):
@@ -93,18 +105,24 @@ def symbols(formula) -> str:
     if operator == "if":
         return symbols(operands[1])
     if operator == "mul":
-        names = [symbols(x) for x in operands]
+        names = [rf"\left({symbols(x)}\right)" if _sum(x) else symbols(x) for x in operands]
         if operands[0] == "f" and len(names) > 1:  # f\, k_d I_d ...: a thin space after the light factor
             names[0] = r"f\,"
         return " ".join(names)
     if operator == "add":
         return " + ".join(symbols(x) for x in operands)
+    if operator == "sub":
+        right = rf"\left({symbols(operands[1])}\right)" if _sum(operands[1]) else symbols(operands[1])
+        return f"{symbols(operands[0])} - {right}"
+    if _sqrt(formula):
+        return rf"\sqrt{{{symbols(operands[0])}}}"
     if operator == "div":
         return rf"\frac{{{symbols(operands[0])}}}{{{symbols(operands[1])}}}"
     if operator == "max0":
         return rf"\max(0, {symbols(operands[0])})"
     base, power = operands
-    return _power(symbols(base), symbols(power), plain=isinstance(base, str) and len(symbol(base)) == 1,
+    single = isinstance(base, str) and (len(symbol(base)) == 1 or symbol(base) in (r"\alpha", r"\pi"))
+    return _power(symbols(base), symbols(power), plain=single,
                   grouped=isinstance(base, tuple) and base[0] == "max0")
 
 
@@ -124,11 +142,15 @@ def numbers(formula, lookup) -> str:
     operator, *operands = formula
     if operator == "if":  # a gate left in: written as what it guards
         return numbers(operands[1], lookup)
+    if _sqrt(formula):
+        return rf"\sqrt{{{numbers(operands[0], lookup)}}}"
     parts = [numbers(x, lookup) for x in operands]
-    if operator in ("mul", "add"):
-        # a negative factor or addend in brackets: "1.000 · (−0.300)"
-        parts = [rf"\left({p}\right)" if _negative(p) and i else p for i, p in enumerate(parts)]
-        return (r" \cdot " if operator == "mul" else " + ").join(parts)
+    if operator in ("mul", "add", "sub"):
+        # a negative factor or addend in brackets: "1.000 · (−0.300)"; a sum inside a product or after a minus
+        parts = [rf"\left({p}\right)" if (_negative(p) and i) or (operator != "add" and _sum(x) and
+                                                                     (operator == "mul" or i)) else p
+                 for i, (p, x) in enumerate(zip(parts, operands))]
+        return {"mul": r" \cdot ", "add": " + ", "sub": " - "}[operator].join(parts)
     if operator == "div":
         return rf"\frac{{{parts[0]}}}{{{parts[1]}}}"
     if operator == "max0":

@@ -109,6 +109,9 @@ def _rows(record, color, shown, several: bool) -> tuple[list[tuple[str, str]], l
     if glow:
         rows.append(("emission", _worked(record.terms["emission"], _lookup(record), record["emission"])))
     if shown is not None:
+        # the model's own factors first (Cook–Torrance's D, V, F), then the terms they make
+        rows += [(name, _worked(formula, _lookup(record, shown), shown[name]))
+                 for name, formula in shown.factors.items()]
         rows += [(t, _worked(shown.terms[t], _lookup(record, shown), shown[t])) for t in shown.terms]
     if not several:
         # one light (or none): its terms added to the ambient (and emission)
@@ -229,7 +232,7 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
         out["vectors"] = {k: _vec_text(record.lookup(k, shown)) for k in "nlrvh"
                           if k in shown.values or k in record.values}
         out["dots"] = [{"name": name, "tex": mathml(equation.symbol(name)), "value": f"{float(shown[name]):+.3f}"}
-                       for name in ("n·l", "r·v", "n·h") if name in shown.values]
+                       for name in ("n·l", "n·v", "r·v", "n·h", "v·h") if name in shown.values]
         if several:
             # which light the dots and the equation belong to, and its own terms beside its dots
             out["light_name"] = _name(shown)

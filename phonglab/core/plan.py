@@ -227,6 +227,10 @@ def plan_effects(
             for lp in plans:
                 if lp.constant_l:
                     computed.append((f"light {lp.index}: constant H", "directional light and infinite viewer"))
+    if model != "cook-torrance" and (material.roughness, material.metallic) != (0.5, 0.0):
+        skipped.append(("roughness, metallic", f"Cook–Torrance's; the {model} model does not use them"))
+    elif model == "cook-torrance":
+        skipped.append(("shininess", "Phong's exponent; Cook–Torrance's lobe is set by roughness"))
     flip = verdict(bool(plans) and two_sided, "two-sided flip",
                    "normals facing away from the eye are negated",
                    "two-sided lighting is off" if not two_sided else "no light is evaluated per point")

@@ -25,6 +25,7 @@ or a tuple ``(operator, *operands)``:
 
 - ``("mul", a, b, ...)``: the product ``a b ...`` (per RGB channel);
 - ``("add", a, b, ...)``: the sum;
+- ``("sub", a, b)``: ``a − b``;
 - ``("div", a, b)``: ``a / b``;
 - ``("pow", a, b)``: ``a^b``;
 - ``("max0", a)``: ``max(0, a)`` (0 for NaN, as ``np.fmax``);
@@ -59,7 +60,7 @@ from .vectors import normalize
 __all__ = ["LightRecord", "Record", "ambient_intensity", "add_area_light", "evaluate", "resolve", "names_in"]
 
 #: operator -> how many operands it takes (None: any number)
-OPERATORS = {"mul": None, "add": None, "div": 2, "pow": 2, "max0": 1, "if": 2}
+OPERATORS = {"mul": None, "add": None, "sub": 2, "div": 2, "pow": 2, "max0": 1, "if": 2}
 
 
 def ambient_intensity(lights) -> np.ndarray:
@@ -108,12 +109,18 @@ class LightRecord:
     terms : mapping str -> formula
         ``"diffuse"`` and ``"specular"``: the formula each term was computed
         by, over the names of ``values`` and of the record's values.
+    factors : mapping str -> formula
+        Named factors of the terms that have a formula of their own, in the
+        order they are shown before the terms (Cook–Torrance's ``D``, ``V``,
+        ``F`` and ``k_D = (1 − F)(1 − m)``); empty for Phong. Each factor's
+        value is in ``values`` under the same name.
     """
 
     index: int | None
     kind: str
     values: Mapping[str, np.ndarray]
     terms: Mapping[str, object]
+    factors: Mapping[str, object] = dataclasses.field(default_factory=lambda: MappingProxyType({}))
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.values[name]
@@ -176,9 +183,9 @@ def make_record(model, values, terms, lights) -> Record:
     return Record(model, _frozen(values), _frozen(terms), tuple(lights))
 
 
-def make_light_record(index, kind, values, terms) -> LightRecord:
+def make_light_record(index, kind, values, terms, factors=None) -> LightRecord:
     """A :class:`LightRecord` with read-only mappings."""
-    return LightRecord(index, kind, _frozen(values), _frozen(terms))
+    return LightRecord(index, kind, _frozen(values), _frozen(terms), _frozen(factors or {}))
 
 
 # ---------------------------------------------------------------------------
@@ -247,6 +254,8 @@ def evaluate(formula, lookup):
             for x in xs[1:]:
                 out = out + x
             return out
+        if operator == "sub":
+            return xs[0] - xs[1]
         if operator == "div":
             return xs[0] / xs[1]
         if operator == "pow":

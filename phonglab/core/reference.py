@@ -34,6 +34,7 @@ from typing import Callable
 import numpy as np
 
 from .checks import as_points, check_lights, check_material, check_model, refuse_nonfinite, viewer
+from .microfacet import DIELECTRIC_F0, ggx_alpha
 from .model import AmbientLight, DirectionalLight, Material, SpotLight
 from .physics import attenuation, face_forward, facing_away, spot_factor
 from .record import ambient_intensity, bind, make_light_record, make_record, names_in
@@ -179,7 +180,10 @@ def shade_reference(
     eye, view_direction : 3 floats, keyword-only
         A local viewer at ``eye`` (``v = normalize(eye − p)``), or an infinite
         one, ``v = normalize(view_direction)`` (exactly one of the two).
-    model : {"phong", "blinn-phong"}
+    model : {"phong", "blinn-phong", "cook-torrance"}
+        Cook–Torrance (:mod:`phonglab.core.microfacet`) uses the normal,
+        light, view, spot, ambient and diffuse-weight steps; the mirror and
+        specular-weight steps belong to the Phong lobe.
     two_sided : bool
         Turn normals that face away from the eye towards it
         (:func:`~phonglab.core.face_forward`).
@@ -292,6 +296,27 @@ def shade_reference(
         term_d = (f * kd_id * w_d[..., None]).astype(dtype)
         diffuse += term_d
 
+        if model == "cook-torrance":
+            # Cook–Torrance: the diffuse term above is weighted by (1 − F)(1 − m), the specular one is π D V F (n·l)
+            diffuse -= term_d
+            term_d, term_s, ct = _cook_torrance(n, l, v, nl, f, w_d, material, light, dtype)
+            diffuse += term_d
+            specular += term_s
+            if trace:
+                values.update(ct)
+                values.update({"I_d": np.broadcast_to(np.asarray(light.diffuse_rgb, dtype), per_rgb),
+                               "I_s": np.broadcast_to(np.asarray(light.specular_rgb, dtype), per_rgb),
+                               "diffuse weight": w_d, "diffuse": term_d, "specular": term_s,
+                               "adds": term_d + term_s})
+                terms = {"diffuse": ("if", ("n·v",), ("mul", "f", "k_d", "I_d", "k_D",
+                                                      _formula(steps.diffuse_weight, "diffuse weight"))),
+                         "specular": ("if", ("n·l", "n·v"), ("mul", "f", "k_s", "I_s", "π", "D", "V", "F", "n·l"))}
+                known = set(values) | _SHARED | {"π", "m", "α_GGX", "F₀"}
+                terms = {name: _usable(formula, known, name) for name, formula in terms.items()}
+                records.append(make_light_record(index, _kind(light), {k: _cast(a, dtype) for k, a in values.items()},
+                                                 terms, factors=COOK_TORRANCE_FACTORS))
+            continue
+
         # specular: k_s ∘ I_s times the specular weight of c = r·v or n·h
         if model == "phong":
             r = steps.mirror(l, n)
@@ -323,9 +348,8 @@ def shade_reference(
                                   bind(_formula(steps.specular_weight, "specular weight"), {"c": cosine}))}
             known = set(values) | _SHARED
             terms = {name: _usable(formula, known, name) for name, formula in terms.items()}
-            kind = "directional" if isinstance(light, DirectionalLight) else (
-                "spot" if isinstance(light, SpotLight) else "point")
-            records.append(make_light_record(index, kind, {k: _cast(a, dtype) for k, a in values.items()}, terms))
+            records.append(make_light_record(index, _kind(light), {k: _cast(a, dtype) for k, a in values.items()},
+                                             terms))
 
     # ambient: k_a ∘ I_a, the same at every point
     ambient = np.broadcast_to(steps.ambient(ka_ia, f_lights).astype(dtype), points.shape)
@@ -336,6 +360,9 @@ def shade_reference(
     shared = {
         "n": n, "v": v, "n·v": dot(n, v), "flipped": flipped,
         "α": np.full(per_point, material.shininess, dtype),
+        **({"π": np.full(per_point, np.pi, dtype), "m": np.full(per_point, material.metallic, dtype),
+            "α_GGX": np.full(per_point, ggx_alpha(material.roughness), dtype),
+            "F₀": np.broadcast_to(_f0(material).astype(dtype), per_rgb)} if model == "cook-torrance" else {}),
         **{name: np.broadcast_to(np.asarray(k, dtype), per_rgb)
            for name, k in (("k_a", material.ka), ("k_d", material.kd), ("k_s", material.ks),
                            ("k_e", material.emission), ("I_a", ia))},
@@ -350,6 +377,71 @@ def shade_reference(
 
 #: the record's own values, which every light's formulas may read too
 _SHARED = {"n", "v", "n·v", "flipped", "α", "k_a", "k_d", "k_s", "k_e", "I_a"}
+
+#: Cook–Torrance's factors, each a formula over the record's names, as the lesson writes them
+#: (D and V only where the light and the eye are both above the surface: elsewhere the term is 0)
+COOK_TORRANCE_FACTORS = {
+    "D": ("if", ("n·l", "n·v"), ("div", ("pow", "α_GGX", 2),
+          ("mul", "π", ("pow", ("add", ("mul", ("pow", "n·h", 2), ("sub", ("pow", "α_GGX", 2), 1)), 1), 2)))),
+    "V": ("if", ("n·l", "n·v"), ("div", 1, ("mul", 2, ("add",
+                       ("mul", "n·l", ("pow", ("add", ("mul", ("pow", "n·v", 2), ("sub", 1, ("pow", "α_GGX", 2))),
+                                               ("pow", "α_GGX", 2)), 0.5)),
+                       ("mul", "n·v", ("pow", ("add", ("mul", ("pow", "n·l", 2), ("sub", 1, ("pow", "α_GGX", 2))),
+                                               ("pow", "α_GGX", 2)), 0.5)))))),
+    "F": ("add", "F₀", ("mul", ("sub", 1, "F₀"), ("pow", ("sub", 1, "v·h"), 5))),
+    "k_D": ("mul", ("sub", 1, "F"), ("sub", 1, "m")),
+}
+
+
+def _kind(light) -> str:
+    return "directional" if isinstance(light, DirectionalLight) else (
+        "spot" if isinstance(light, SpotLight) else "point")
+
+
+def _f0(material) -> np.ndarray:
+    """``F₀ = 0.04 (1 − m) + k_d m`` per channel."""
+    return DIELECTRIC_F0 * (1 - material.metallic) + np.asarray(material.kd) * material.metallic
+
+
+def _cook_torrance(n, l, v, nl, f, w_d, material, light, dtype):
+    """One light's Cook–Torrance diffuse and specular terms, written as the lesson writes them.
+
+    .. math::
+
+        D = \\frac{\\alpha^2}{\\pi ((n\\cdot h)^2(\\alpha^2 - 1) + 1)^2}, \\quad
+        V = \\frac{1/2}{(n\\cdot l)\\sqrt{(n\\cdot v)^2(1 - \\alpha^2) + \\alpha^2}
+            + (n\\cdot v)\\sqrt{(n\\cdot l)^2(1 - \\alpha^2) + \\alpha^2}}, \\quad
+        F = F_0 + (1 - F_0)(1 - v\\cdot h)^5
+
+    diffuse ``f k_d ∘ I_d ∘ (1 − F)(1 − m) w_d`` where ``n·v > 0``, specular
+    ``f k_s ∘ I_s ∘ π D V F (n·l)`` where ``n·l > 0`` and ``n·v > 0``. The
+    direct forms lose precision near the peak of a sharp lobe, where
+    ``(n·h)²(α² − 1) + 1`` cancels to ``α²``: the fast kernel
+    (:func:`~phonglab.core.shade`) computes ``1 − (n·h)²`` from
+    ``|n − h|²/2`` and stays accurate there.
+
+    Returns ``(diffuse, specular, values)``, the values under the record's names.
+    """
+    alpha = ggx_alpha(material.roughness)
+    a2 = alpha * alpha
+    h = normalize(l + v)
+    nv, nh, vh = dot(n, v), dot(n, h), dot(v, h)
+    lit_v = nv > 0
+    lit = (nl > 0) & lit_v
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        d = a2 / (np.pi * (nh * nh * (a2 - 1) + 1) ** 2)
+        vis = 0.5 / (nl * np.sqrt(nv * nv * (1 - a2) + a2) + nv * np.sqrt(nl * nl * (1 - a2) + a2))
+    f0 = _f0(material)
+    fresnel = f0 + (1 - f0) * ((1 - vh) ** 5)[..., None]
+    k_diffuse = (1 - fresnel) * (1 - material.metallic)
+    kd_id = np.asarray(material.kd) * np.asarray(light.diffuse_rgb)
+    ks_is = np.asarray(material.ks) * np.asarray(light.specular_rgb)
+    term_d = np.where(lit_v[..., None], f * kd_id * k_diffuse * w_d[..., None], 0).astype(dtype)
+    lobe = np.where(lit, np.pi * d * vis * nl, 0)
+    term_s = (f * ks_is * fresnel * lobe[..., None]).astype(dtype)
+    values = {"n·l": nl, "n·v": nv, "h": h, "n·h": nh, "v·h": vh,
+              "D": np.where(lit, d, 0), "V": np.where(lit, vis, 0), "F": fresnel, "k_D": k_diffuse}
+    return term_d, term_s, values
 
 
 def _usable(formula, known, name):

@@ -102,7 +102,8 @@ SCENE_FIELDS = (
     SceneField("exposure", {"colours"}, default=1.0, mirrors=("exposure",)),
     SceneField("geometry", {"mesh", "colours", "probe", "vectors"}),
     SceneField("material", {"colours"}, mirrors=tuple(f"material.{k}" for k in
-                                                      ("ka", "kd", "ks", "shininess", "emission"))),
+                                                      ("ka", "kd", "ks", "shininess", "emission", "roughness",
+                                                       "metallic"))),
     SceneField("lights", {"colours", "vectors", "markers"}),
     SceneField("camera", {"camera", "colours", "default probe", "vectors", "markers", "eye"},
                mirrors=("camera.infinite_viewer",)),
@@ -121,7 +122,7 @@ SCENE_KEYS = tuple(f.name for f in SCENE_FIELDS)
 #: further top-level keys of a lesson's front matter
 LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake", "claims", "check")
 GEOMETRY_KEYS = ("kind", "resolution", "name", "path")
-MATERIAL_KEYS = ("ka", "kd", "ks", "shininess", "emission", "opacity")
+MATERIAL_KEYS = ("ka", "kd", "ks", "shininess", "emission", "opacity", "roughness", "metallic")
 MATERIAL_REQUIRED = ("ka", "kd", "ks", "shininess")
 CAMERA_KEYS = ("eye", "focal_point", "up", "view_angle", "infinite_viewer")
 #: the [area_light] table: the core AreaLight's fields, then how it is evaluated
@@ -183,6 +184,8 @@ CORE_FIELDS = {
     "intensity": ("number", NUMBER_RULE),
     "exponent": ("number", NUMBER_RULE),
     "opacity": ("number", "must be a finite number in [0, 1]"),
+    "roughness": ("number", "must be a finite number in [0, 1]"),
+    "metallic": ("number", "must be a finite number in [0, 1]"),
     "position": ("vector", VECTOR_RULE),
     "direction": ("vector", VECTOR_RULE + ", not all zero"),
     "attenuation": ("vector", None),  # the core states the a + b·d + c·d² > 0 rule
