@@ -445,3 +445,16 @@ def test_a_mesh_name_the_system_refuses_is_a_scene_error(tmp_path):
     text = str(refused.value)
     assert "geometry.path: cannot be used as a file name" in text and len(text.splitlines()) == 1, text
     assert len(text) < 300, text
+
+
+def test_check_echoes_hidden_characters_of_a_file_escaped(tmp_path):
+    # a right-to-left override in the file's name and in a value, a NUL and an escape sequence in values and keys
+    scene = tmp_path / "evil\u202elmth.toml"
+    scene.write_text('model = "phong\\u202e\\u0000"\ntitle = 7\n[geometry]\nkind = "sphere\\u001b[2J"\n'
+                     f'{MATERIAL}"ka\\u202e" = 1\n', encoding="utf-8")
+    status, out, err = phonglab("check", scene, cwd=tmp_path)
+    shown = f"status {status}\nstdout: {out!r}\nstderr: {err!r}"
+    assert status == 1 and "Traceback" not in out + err, shown
+    for hidden in ("\u202e", "\x00", "\x1b"):
+        assert hidden not in out + err, shown
+    assert out.count("\\u202e") >= 3 and "\\x00" in out and "\\x1b" in out, shown

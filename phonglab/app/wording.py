@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import re
 
+from phonglab.scene.errors import printable
 from phonglab.scene.schema import CORE_FIELDS, VECTOR_RULE
 
 #: the coefficients' symbols with the term each one scales
@@ -175,8 +176,12 @@ def _is_number(x) -> bool:
 
 
 def shown_value(text: str) -> str:
-    """The value as typed, short enough for a sentence (never quoted)."""
-    text = " ".join(str(text).split())
+    """The value as typed, short enough for a sentence (never quoted).
+
+    Characters that would act instead of show (NUL, a right-to-left
+    override) are escaped (:func:`phonglab.scene.errors.printable`).
+    """
+    text = printable(" ".join(str(text).split()))
     if not text:
         return "nothing"
     return text if len(text) <= SHOWN_CHARS else text[: SHOWN_CHARS - 1] + "…"
