@@ -12,6 +12,9 @@ would hold every other tab's page still. They run here instead:
   :class:`~phonglab.scene.Scene` (pickled) and the bytes of the result;
 * at a lower CPU priority (``nice`` +:data:`NICE`): on a machine with few
   cores, the server's loop, which answers every tab, is served first;
+* ending with the server, however it ends: each worker watches a pipe only
+  the server holds open (the lifeline) and exits when it closes, so a server
+  killed outright (``kill -9``) leaves no worker rendering on for nobody;
 * at most :data:`MAX_PENDING` jobs at once over the whole server: past it a
   tab is told the server is busy and to try again, instead of a queue that
   grows with every click.
@@ -57,6 +60,7 @@ _pending = 0
 _starting = False  # the pool is being started in a thread
 _generation = 0  # counts shutdowns: a pool started before one is not used
 _waiting = []  # (function, args, future) submitted while it starts
+_lifeline = None  # the write end of the pipe whose closing ends the workers (kept open while the pool runs)
 
 
 class WorkerError(RuntimeError):
@@ -67,12 +71,29 @@ class ServerBusy(RuntimeError):
     """More than :data:`MAX_PENDING` heavy jobs would be waiting: the tab should try again later."""
 
 
-def _start_worker() -> None:
+def _start_worker(lifeline) -> None:
     # Ctrl-C reaches the whole process group: the server stops its workers itself
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     # the server's event loop answers every tab: it gets the CPU first
     with contextlib.suppress(OSError, AttributeError):
         os.nice(NICE)
+    # a worker ends with its server, however the server ends (kill -9 included)
+    threading.Thread(target=_end_with_server, args=(lifeline,), name="phonglab-lifeline", daemon=True).start()
+
+
+def _end_with_server(lifeline) -> None:
+    """In a worker: wait on the read end of the server's lifeline pipe; end the process when it closes.
+
+    Only the server holds the write end, and the kernel closes it when the
+    server exits, however it exits: the read then fails at once, and the
+    worker ends without running any clean-up (its job's result has no one to go to).
+    """
+    try:
+        while True:
+            lifeline.recv_bytes()  # nothing is ever sent: this returns only at end of file
+    except (EOFError, OSError):
+        pass
+    os._exit(0)
 
 
 def _call(function, args):
@@ -106,9 +127,12 @@ def _start_pool(generation: int) -> None:
     Run in a thread: spawning the workers would hold the event loop for a
     tenth of a second or more.
     """
-    global _pool, _starting
+    global _pool, _starting, _lifeline
+    context = multiprocessing.get_context("spawn")
     try:
-        pool = multiprocessing.get_context("spawn").Pool(WORKERS, initializer=_start_worker)
+        # the lifeline: the workers get its read end, this process alone keeps its write end
+        lifeline, keep = context.Pipe(duplex=False)
+        pool = context.Pool(WORKERS, initializer=_start_worker, initargs=(lifeline,))
     except Exception as exc:  # noqa: BLE001 - every waiting job fails with it
         with _lock:
             waiting = []
@@ -120,7 +144,7 @@ def _start_pool(generation: int) -> None:
     with _lock:
         wanted = generation == _generation  # False: shut down meanwhile
         if wanted:
-            _pool, _starting = pool, False
+            _pool, _starting, _lifeline = pool, False, keep
             for function, args, future in _waiting:
                 _apply(pool, function, args, future)
             _waiting.clear()
@@ -128,6 +152,7 @@ def _start_pool(generation: int) -> None:
         # any process that started workers stops them before it exits, not in Pool.__del__
         atexit.register(shutdown)
     else:
+        keep.close()
         pool.terminate()
 
 
@@ -186,9 +211,10 @@ def shutdown() -> None:
     outright and the pool's own clean-up gets :data:`SHUTDOWN_WAIT` seconds
     in a daemon thread: stopping the server never hangs.
     """
-    global _pool, _pending, _starting, _generation
+    global _pool, _pending, _starting, _generation, _lifeline
     with _lock:
         pool, _pool, _pending, _starting = _pool, None, 0, False
+        lifeline, _lifeline = _lifeline, None
         _generation += 1
         waiting, _waiting[:] = list(_waiting), []
     for _, _, future in waiting:
@@ -198,6 +224,8 @@ def shutdown() -> None:
     for worker in list(getattr(pool, "_pool", ())):
         with contextlib.suppress(Exception):
             worker.kill()
+    if lifeline is not None:
+        lifeline.close()
     cleanup = threading.Thread(target=pool.terminate, name="phonglab-worker-stop", daemon=True)
     cleanup.start()
     cleanup.join(SHUTDOWN_WAIT)
