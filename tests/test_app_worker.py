@@ -250,3 +250,31 @@ def test_workers_end_with_a_server_killed_mid_export(tmp_path):
         left = [p for p in workers if _alive(p)]
         assert not left, (f"export workers {left} still run {WORKERS_END_WITHIN:.0f} s after the server was killed: "
                           f"{[workers[p] for p in left]}")
+
+
+def _has_vtk(pid: int) -> bool:
+    """Whether process ``pid`` has VTK's libraries loaded (it made a figure, or imported the renderer)."""
+    try:
+        return "libvtk" in Path(f"/proc/{pid}/maps").read_text()
+    except OSError:
+        return False
+
+
+def test_serve_starts_the_workers_warm_before_any_tab(tmp_path):
+    from app_support import serving
+
+    from phonglab.bench.scenes import write_lessons
+
+    lessons = tmp_path / "lessons"
+    lessons.mkdir()
+    write_lessons(lessons)
+    with serving(lessons, log_path=tmp_path / "serve.log") as served:
+        server = served["process"].pid
+
+        def warm():
+            found = [p for p, c in _children(server).items() if "spawn_main" in c]
+            return found if len(found) == worker.WORKERS and all(_has_vtk(p) for p in found) else None
+
+        workers = _wait_for(warm, 180, step=0.5)
+        assert workers, (f"{worker.WORKERS} workers with VTK loaded were not running 180 s after the server started, "
+                         f"with no tab open: {_children(server)}")
