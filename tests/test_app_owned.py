@@ -52,3 +52,14 @@ def test_notices_carry_the_reason_not_the_exception_class(app, monkeypatch):
     assert "AttributeError" not in text and "no attribute" in text, text
     assert owned.reason(RuntimeError("")).startswith("an internal error")
     assert len(owned.short("x" * 10_000)) == owned.NOTICE_CHARS
+
+
+@pytest.mark.parametrize("bad", ["\x00", "\u202e", "\x1b[31m"])
+def test_a_page_value_is_echoed_with_hidden_characters_escaped(app, bad):
+    key = next(k for k, c in app.controls.by_key.items() if c.path == "material.kd" and c.kind == "value")
+    app._on_control(key, [f"0.5{bad}", 1, 1])
+    text = app.state.notice["text"]
+    assert "Refused" in text and bad[0] not in text, text
+    assert "\\x00" in text or "\\u202e" in text or "\\x1b" in text, text
+    app.notify("error", f"no such lesson: {bad}")  # any notice, whatever made it
+    assert bad[0] not in app.state.notice["text"], app.state.notice

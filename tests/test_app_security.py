@@ -460,6 +460,56 @@ def test_announcing_a_gigabyte_three_times_allocates_nothing(own_process):
     assert "announced" in log_tail(own_process.log, 200), log_tail(own_process.log)
 
 
+#: what one attacking tab sent: new state keys of its own, each holding a string of this many bytes
+NEW_KEYS, KEY_BYTES = 60, 3_900_000
+
+
+def test_a_tab_cannot_grow_the_server_with_state_keys_of_its_own(own_process):
+    async def attack():
+        client = await logged_in(own_process.port)
+        try:
+            await client.call("trame.state.get")
+            answers = [await client.call("trame.state.update", [[{"key": f"junk_{i}", "value": "x" * KEY_BYTES}]])
+                       for i in range(NEW_KEYS)]
+            # a key the page defines, given a value far larger than any the page writes
+            big = await client.call("trame.state.update", [[{"key": "drawer", "value": "x" * KEY_BYTES}]])
+            fine = await client.call("trame.state.update", [[{"key": "drawer", "value": True}]])
+            return answers, big, fine
+        finally:
+            await client.__aexit__()
+
+    run(logged_in_and_out(own_process.port))  # the first session's imports and caches are not the attack
+    before = rss_mb(own_process.pid)
+    answers, big, fine = run(attack())
+    growth = rss_mb(own_process.pid) - before
+    print(f"server RSS growth after {NEW_KEYS} new keys of {KEY_BYTES:,} bytes, tab closed: {growth:.1f} MB")
+    accepted = [i for i, answer in enumerate(answers) if "error" not in answer]
+    assert not accepted, f"new state keys junk_{accepted[:5]} were accepted: {answers[accepted[0]]}"
+    assert "not a state key" in answers[0]["error"]["message"], answers[0]
+    assert "error" in big and "at most" in big["error"]["message"], f"a {KEY_BYTES:,}-byte value was kept: {big}"
+    assert "error" not in fine, f"the page's own update was refused after the attack: {fine}"
+    assert growth < 50, f"RSS grew by {growth:.0f} MB"
+    assert own_process.process.poll() is None, log_tail(own_process.log)
+
+
+def test_state_writes_take_only_defined_keys_within_the_total():
+    defined = {"drawer", "student_code", "notice"}
+    writes = protocol.StateWrites(defined.__contains__, limit=1000)
+
+    def update(*changes):
+        return writes.refusal({"method": "trame.state.update", "args": [[{"key": k, "value": v} for k, v in changes]]})
+
+    assert update(("drawer", True)) is None
+    refused = update(("drawer", False), ("made_up", 1))
+    assert refused and "'made_up' is not a state key" in refused[1], refused
+    assert update(("student_code", "x" * 900)) is None and writes.held > 900
+    refused = update(("notice", "y" * 200))
+    assert refused and "at most 1,000" in refused[1], (refused, writes.held)
+    assert update(("student_code", "x" * 10), ("notice", "y" * 200)) is None, "a rewritten key's old size still counted"
+    assert writes.held < 300, writes.held
+    assert writes.refusal({"method": "trame.trigger", "args": ["trigger__1", [], {}]}) is None
+
+
 async def logged_in_and_out(port):
     client = await logged_in(port)
     await client.call("trame.state.get")

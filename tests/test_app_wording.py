@@ -8,6 +8,7 @@ import pytest
 
 from phonglab.app import controls as ctl
 from phonglab.app.slider_access import key_step_handler, slider_attributes
+from phonglab.app import wording
 from phonglab.app.wording import plain_rule, spoken_label
 from phonglab.scene import schema
 from phonglab.scene.lessons import catalog
@@ -35,6 +36,12 @@ def test_every_widget_of_every_lesson_has_a_plain_distinct_name(entry):
     ('must be one of "sphere", "torus"', "sphere or torus"),
     ("must be a finite number > 0", "a number above 0"),
     ("must be a value with x >= 2 and y <= 3", "a value with x at least 2 and y at most 3"),
+    # the upper limits (phonglab.core.model), as a value past them is refused
+    ("must be a finite number in [0, 1000] or a list of 3 of them (RGB)",
+     "a number from 0 to 1000, or three of them (red, green, blue) separated by commas"),
+    ("must be a finite number in [0, 1e6]", "a number from 0 to 1,000,000"),
+    ("must be a finite number in (0, 1000]", "a number above 0 and at most 1000"),
+    ("must be (a, b, c) with every coefficient within ±1e6", "three numbers a, b, c, each at most 1,000,000 in size"),
 ])
 def test_a_rule_reads_as_what_the_field_takes(rule, words):
     text = plain_rule(rule)
@@ -52,3 +59,20 @@ def test_only_a_slider_with_a_key_step_takes_the_arrow_keys():
     assert '"' not in handler and f"* {ctl.SHININESS_KEY_STEP!r}" in handler, handler
     others = [c for c in widgets.values() if c.kind == "slider" and c is not shininess]
     assert others and all(set(slider_attributes(c)) == {"name"} for c in others), others
+
+
+#: characters that act instead of showing: NUL, escape, a right-to-left override, a zero-width joiner, a line separator
+HIDDEN = ["\x00", "\x1b", "\u202e", "\u200d", "\u2028"]
+
+
+@pytest.mark.parametrize("sentence", [
+    lambda bad: wording.unknown_setting(f"ks{bad}", f"0.5{bad}"),
+    lambda bad: wording.no_lesson(f"01{bad}", ["01-light"]),
+    lambda bad: wording.long_key(f"k{bad}" * 30),
+], ids=["unknown setting", "no lesson", "long key"])
+def test_an_address_notice_shows_hidden_characters_escaped(sentence):
+    for bad in HIDDEN:
+        text = sentence(bad)
+        assert bad not in text, (bad, text)
+    # shown as Python writes them; a line separator is white space, read as a space
+    assert "\\x00" in sentence("\x00") and "\\u202e" in sentence("\u202e"), (sentence("\x00"), sentence("\u202e"))

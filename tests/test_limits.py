@@ -9,15 +9,22 @@ instead of the machine. The hostile files are written in ``tmp_path``.
 from __future__ import annotations
 
 import os
+import re
 import resource
 import struct
 import subprocess
 import sys
 import time
+import tomllib
+import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from phonglab import core
+from phonglab.core.display import display_values
+from phonglab.core.model import MAX_ATTENUATION, MAX_COEFFICIENT, MAX_EXPONENT, MAX_EXPOSURE, MAX_INTENSITY
 from phonglab.render._files import clean_stale_temporaries, temp_name, write_atomically
 from phonglab.scene import SceneError, load
 from phonglab.scene.checks import nesting_depth
@@ -159,6 +166,28 @@ def _many_samples(folder):
                       extra='[area_light]\nposition = [0, 2, 0]\nmethod = "uniform"\nsamples = 4096\n')
 
 
+def _huge_coefficient(folder):  # 1e308 overflows float32 in the shading sum
+    path = folder / "bright.toml"
+    path.write_text(f"[geometry]\nkind = \"sphere\"\n{MATERIAL.replace('ka = 0.1', 'ka = 1e308')}{POINT_LIGHT}",
+                    encoding="utf-8")
+    return path
+
+
+def _long_mesh_path(folder):  # longer than any file name the system takes
+    return scene_file(folder, "long.toml", geometry=f'kind = "file"\npath = "{"m" * 5000}.ply"')
+
+
+def _fifo_scene(folder):  # reading a FIFO waits for a writer that never comes
+    path = folder / "pipe.toml"
+    os.mkfifo(path)
+    return path
+
+
+def _fifo_mesh(folder):
+    os.mkfifo(folder / "pipe.ply")
+    return scene_file(folder, "pipe-mesh.toml", geometry='kind = "file"\npath = "pipe.ply"')
+
+
 #: file cases: builder, words the one-line error must contain
 FILE_CASES = {
     "huge PLY header": (_huge_ply, "too many vertices"),
@@ -179,6 +208,10 @@ FILE_CASES = {
     "eye at -1e308": (_far_eye, "camera.eye"),
     "too many lights": (_many_lights, f"at most {MAX_LIGHTS} allowed"),
     "4096 area samples at resolution 1024": (_many_samples, "area_light.samples"),
+    "ka of 1e308": (_huge_coefficient, "material.ka: must be a finite number in [0, 1000]"),
+    "mesh path of 5000 characters": (_long_mesh_path, "geometry.path: is too long"),
+    "FIFO named .toml": (_fifo_scene, "is a FIFO (named pipe), not a regular file"),
+    "FIFO named .ply": (_fifo_mesh, "geometry.path: must name a regular mesh file"),
 }
 
 
@@ -244,6 +277,8 @@ FLAG_CASES = {
                      "--sweep", "material.shininess=" + ",".join(["8"] * 8)], "cells, at most"),
     "sweep too fine for its size": (["--size", "64x64", "--sweep", "material.ks=" + ",".join(["0.5"] * 8),
                                      "--sweep", "material.shininess=" + ",".join(["8"] * 8)], "too small"),
+    "--set emission 1e308": (["--set", "material.emission=1e308"], "material.emission: must be a finite number in [0, 1000]"),
+    "--set exposure 1e308": (["--set", "exposure=1e308"], "exposure: must be a finite number in (0, 1000]"),
 }
 
 
@@ -312,3 +347,114 @@ def test_stale_temporaries_are_cleared_and_fresh_ones_kept(tmp_path):
     os.utime(fresh, (old, old))
     write_atomically(target, lambda tmp: Path(tmp).write_bytes(b"png"))
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([target.name, mine.name])
+
+
+# ---------------------------------------------------------------------------
+# the upper limits of coefficients, intensities and exponents
+
+
+#: field path -> a value past its limit; every one of them overflowed float32 in an export before
+PAST_LIMITS = {
+    "material.ka": 1e308, "material.kd": [0.5, 1e308, 0.5], "material.ks": 1e308, "material.emission": 1e308,
+    "material.shininess": 1e308, "lights[1].intensity": 1e308, "lights[1].color": [1e308, 1, 1],
+    "lights[1].attenuation": [1, 0, 1e308], "exposure": 1e308,
+}
+
+
+@pytest.mark.parametrize("path", list(PAST_LIMITS))
+def test_values_past_their_limit_are_refused_from_files_and_edits_alike(path, tmp_path):
+    value = PAST_LIMITS[path]
+    with pytest.raises(SceneError) as edited:
+        load(SPHERE).replace(path, value)
+    message = str(edited.value)
+    assert message.startswith(f"{path}: must be") and len(message.splitlines()) == 1, (path, value, message)
+    assert any(limit in message for limit in ("in [0, 1000]", "in [0, 1e6]", "±1e6", "in (0, 1000]")), message
+    # the same scene written as a file is refused with the same words
+    data = tomllib.loads(SPHERE.read_text(encoding="utf-8"))
+    *tables, key = re.split(r"\.", path)
+    table = data
+    for name in tables:  # "material", "lights[1]"
+        m = re.fullmatch(r"(\w+)\[(\d+)\]", name)
+        table = table[m.group(1)][int(m.group(2))] if m else table[name]
+    table[key] = value
+    file = tmp_path / "past.toml"
+    file.write_text(_toml(data), encoding="utf-8")
+    with pytest.raises(SceneError) as loaded:
+        load(file)
+    assert message in str(loaded.value), (path, value, str(loaded.value))
+
+
+def _toml(data: dict) -> str:
+    """``data`` (scalars, lists, tables and arrays of tables of them) as TOML text."""
+    def value(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        return repr(v)
+
+    lines = [f"{k} = {value(v)}" for k, v in data.items() if not isinstance(v, (dict, list)) or
+             (isinstance(v, list) and not any(isinstance(x, dict) for x in v))]
+    for k, v in data.items():
+        if isinstance(v, dict):
+            lines += [f"[{k}]"] + [f"{kk} = {value(vv)}" for kk, vv in v.items()]
+        elif isinstance(v, list) and any(isinstance(x, dict) for x in v):
+            for table in v:
+                lines += [f"[[{k}]]"] + [f"{kk} = {value(vv)}" for kk, vv in table.items()]
+    return "\n".join(lines) + "\n"
+
+
+def test_values_at_their_limits_shade_finite_in_float32_without_a_warning():
+    top = MAX_COEFFICIENT
+    material = core.Material(ka=top, kd=top, ks=top, emission=top, shininess=MAX_EXPONENT)
+    # every light sits on the shaded point at the origin: its attenuation factor is at its cap
+    lights = [core.AmbientLight(intensity=MAX_INTENSITY, color=top)]
+    lights += [core.PointLight(position=(0, 0, 0), intensity=MAX_INTENSITY, color=top, attenuation=(0, 0, 1))
+               for _ in range(MAX_LIGHTS - 2)]
+    lights += [core.SpotLight(position=(0, 0, 0), direction=(0, 0, -1), cutoff=90, exponent=MAX_EXPONENT,
+                              intensity=MAX_INTENSITY, color=top, attenuation=(MAX_ATTENUATION, 0, MAX_ATTENUATION))]
+    points = np.array([[0, 0, 0], [0.5, 0, 0], [MAX_COORDINATE, -MAX_COORDINATE, MAX_COORDINATE]], np.float32)
+    normals = np.array([[0, 0, 1]] * 3, np.float32)
+    with warnings.catch_warnings(), np.errstate(all="raise"):
+        warnings.simplefilter("error")
+        colour = core.shade(points, normals, material=material, lights=lights, eye=(0, 0, 5)).color
+        shown = display_values(colour, exposure=MAX_EXPOSURE)
+    assert colour.dtype == np.float32 and np.isfinite(colour).all(), colour
+    # the brightest value times the exposure, summed over the largest figure (2**23 pixels), stays finite
+    assert float(colour.max()) * MAX_EXPOSURE * 2**23 < np.finfo(np.float32).max, colour.max()
+    assert np.isfinite(shown).all(), shown
+
+
+def test_the_page_refuses_a_value_past_its_limit_with_a_notice(lesson_app):
+    from test_app_page import MISTAKE_LESSON
+
+    app = lesson_app("01-limits.md", MISTAKE_LESSON, "test-limits")
+    scene = app.scene
+    app._on_control("material__kd", [1e308, 0.5, 0.5])
+    assert app.scene is scene, "kd = 1e308 changed the scene"
+    notice = app.state.notice
+    assert notice["kind"] == "error" and "Refused" in notice["text"] and "1000" in notice["text"], notice
+
+
+def test_a_mesh_name_the_system_refuses_is_a_scene_error(tmp_path):
+    scene = scene_file(tmp_path, "part.toml", geometry=f'kind = "file"\npath = "{"m" * 300}.ply"')
+    with pytest.raises(SceneError) as refused:
+        load(scene)
+    text = str(refused.value)
+    assert "geometry.path: cannot be used as a file name" in text and len(text.splitlines()) == 1, text
+    assert len(text) < 300, text
+
+
+def test_check_echoes_hidden_characters_of_a_file_escaped(tmp_path):
+    # a right-to-left override in the file's name and in a value, a NUL and an escape sequence in values and keys
+    scene = tmp_path / "evil\u202elmth.toml"
+    scene.write_text('model = "phong\\u202e\\u0000"\ntitle = 7\n[geometry]\nkind = "sphere\\u001b[2J"\n'
+                     f'{MATERIAL}"ka\\u202e" = 1\n', encoding="utf-8")
+    status, out, err = phonglab("check", scene, cwd=tmp_path)
+    shown = f"status {status}\nstdout: {out!r}\nstderr: {err!r}"
+    assert status == 1 and "Traceback" not in out + err, shown
+    for hidden in ("\u202e", "\x00", "\x1b"):
+        assert hidden not in out + err, shown
+    assert out.count("\\u202e") >= 3 and "\\x00" in out and "\\x1b" in out, shown

@@ -63,15 +63,21 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None,
     max_sessions : int, optional
         Tabs served at once (:data:`~phonglab.app.guard.DEFAULT_MAX_SESSIONS` by default).
     """
-    from phonglab.app import accuracy_panel
+    from phonglab.app import accuracy_panel, download, worker
     from phonglab.app.server import SessionServer
+
+    def ready(bound: int) -> None:
+        # the export workers start and warm up in the background now, not on the first click
+        worker.start(warm=download.warm_up)
+        if on_ready is not None:
+            on_ready(bound)
 
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     try:
         limits = {} if max_sessions is None else {"max_sessions": max_sessions}
         build = make_app(target, export_dir=export_dir, allow_student_code=allow_student_code)
         server = SessionServer(build, allow_origins=allow_origins, **limits)
-        asyncio.run(server.run(host, port, on_ready=on_ready))
+        asyncio.run(server.run(host, port, on_ready=ready))
     finally:
         # the worker processes (exports, the accuracy lesson), if any were started
         accuracy_panel.shutdown()

@@ -10,13 +10,15 @@ short line (:func:`reason`), never an exception class or a huge value.
 
 from __future__ import annotations
 
+from phonglab.scene.errors import printable
+
 #: longest notice text, in characters
 NOTICE_CHARS = 300
 
 
 def short(text: str, limit: int = NOTICE_CHARS) -> str:
-    """``text`` on one line, cut to ``limit`` characters with "…"."""
-    text = " ".join(str(text).split())
+    """``text`` on one line, cut to ``limit`` characters with "…", characters that would act escaped (``\\u202e``)."""
+    text = printable(" ".join(str(text).split()))
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 

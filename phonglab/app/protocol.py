@@ -17,6 +17,9 @@ session server (:mod:`phonglab.app.server`) puts in front of it:
 - :func:`check_call` lets through only the RPC methods the page uses
   (:data:`ALLOWED_METHODS`), with arguments of the expected shape and finite
   numbers;
+- :class:`StateWrites` lets one tab's ``trame.state.update`` write only the
+  state keys its page defines, holding at most :data:`MAX_SESSION_STATE_BYTES`
+  in them together;
 - :class:`ReplyFilter` rewrites the app's error replies to a short message
   (the traceback goes to the server log, never to the browser).
 
@@ -353,6 +356,64 @@ def _checked_values(method: str, args: list, kwargs: dict):
         return [[change.get("value") for change in args[0] if not isinstance(change.get("value"), float)],
                 [{k: v for k, v in change.items() if k != "value"} for change in args[0]]]
     return [args, kwargs]
+
+
+# ---------------------------------------------------------------------------
+# what one tab may write into its state
+
+#: the most bytes (msgpack) of values one tab may hold in its state keys together: the largest
+#: value the page writes is a pasted student file of at most 64 KiB, so this leaves 16 times that
+MAX_SESSION_STATE_BYTES = 1024 * 1024
+
+
+class StateWrites:
+    """Which state keys one tab may write, and how much it may keep in them.
+
+    trame's ``trame.state.update`` stores whatever key the browser names: a
+    client could add keys of megabytes each until the server runs out of
+    memory. Only keys the page itself defines (the server set them first:
+    the page's initial state, its controls, its panels) may be written, and
+    the values this tab wrote are counted: together at most ``limit`` bytes
+    (each value's msgpack size, the latest per key).
+
+    Parameters
+    ----------
+    defined : callable
+        ``defined(key) -> bool``: whether the tab's state holds ``key``
+        (the app's ``state.has``).
+    limit : int
+        The most bytes the tab's written values may hold together.
+    """
+
+    def __init__(self, defined, limit: int = MAX_SESSION_STATE_BYTES):
+        self.defined = defined
+        self.limit = limit
+        self._held: dict[str, int] = {}
+
+    @property
+    def held(self) -> int:
+        """Bytes this tab's written values hold now."""
+        return sum(self._held.values())
+
+    def refusal(self, rpc: dict):
+        """None when ``rpc`` (a call :func:`check_call` passed) may reach the app, else ``(code, short message)``.
+
+        A refused update changes nothing (none of its keys is written).
+        """
+        if rpc["method"] != "trame.state.update":
+            return None
+        changes = rpc["args"][0]
+        for change in changes:
+            if not self.defined(change["key"]):
+                return INVALID_PARAMS, (f"trame.state.update: {change['key'][:60]!r} is not a state key "
+                                        "of this page")
+        sizes = {change["key"]: len(msgpack.packb(change.get("value"))) for change in changes}
+        total = sum({**self._held, **sizes}.values())
+        if total > self.limit:
+            return INVALID_PARAMS, (f"trame.state.update: this tab's values would hold {total:,} bytes, "
+                                    f"at most {self.limit:,} allowed")
+        self._held.update(sizes)
+        return None
 
 
 def _plain_values(value, depth: int = 0) -> str | None:

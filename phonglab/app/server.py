@@ -16,8 +16,9 @@ checks them on the way (:mod:`phonglab.app.guard`, :mod:`phonglab.app.protocol`)
    while fewer than ``max_sessions`` are open (else the socket closes with
    1013, "try again later", and the page says the server is full);
 3. every later message is reassembled within :data:`~phonglab.app.protocol.MAX_MESSAGE_BYTES`,
-   must call an RPC method the page uses, with sane arguments, and is paced
-   by a per-connection budget (:class:`~phonglab.app.guard.CallBudget`);
+   must call an RPC method the page uses, with sane arguments, may write only
+   the state keys the page defines (:class:`~phonglab.app.protocol.StateWrites`),
+   and is paced by a per-connection budget (:class:`~phonglab.app.guard.CallBudget`);
 4. the app's error replies reach the browser without their traceback.
 
 The server binds 127.0.0.1 unless told otherwise.
@@ -219,6 +220,7 @@ class SessionServer:
             # the app's connection is in this process: log it in with the app's own secret
             await connection.send(True, _Frame(protocol.hello(app.server.protocol.secret)))
             chunks = protocol.Assembler()
+            writes = protocol.StateWrites(app.server.state.has)
             budget = guard.CallBudget(crowded=lambda: self._admitted > 1)
             clock = asyncio.get_running_loop().time
             async for message in socket:
@@ -228,7 +230,7 @@ class SessionServer:
                     if whole is None:
                         continue
                     rpc = protocol.unpack(whole)
-                    refusal = protocol.check_call(rpc)
+                    refusal = protocol.check_call(rpc) or writes.refusal(rpc)
                     if refusal is not None:
                         log.info("session %s: refused %s: %s", name, rpc["method"][:80], refusal[1])
                         await socket.send_bytes(protocol.error_reply(rpc.get("id"), *refusal))

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import re
 
+from phonglab.scene.errors import printable
 from phonglab.scene.schema import CORE_FIELDS, VECTOR_RULE
 
 #: the coefficients' symbols with the term each one scales
@@ -83,13 +84,19 @@ def _quoted_choices(text: str) -> str:
 _RULES = [
     (r"must be a finite number >= 0 or (a list of 3 of them \(RGB\)|an RGB triple of them)",
      lambda m: "a number of 0 or more, or three of them (red, green, blue) separated by commas"),
+    (r"must be a finite number in \[(\S+), (\S+)\] or (a list of 3 of them \(RGB\)|an RGB triple of them)",
+     lambda m: f"a number from {_number(m.group(1))} to {_number(m.group(2))}, or three of them (red, green, blue) "
+               "separated by commas"),
     (r"must be a list of 3 finite numbers, not all zero",
      lambda m: "three numbers separated by commas (x, y, z), not all zero"),
     (r"must be a list of 3 finite numbers", lambda m: "three numbers separated by commas (x, y, z)"),
     (r"must be a list of 4 finite numbers \[x, y, z, w\].*",
      lambda m: "four numbers x, y, z, w separated by commas, with w = 1 for a point light or 0 for a directional one"),
     (r"must be between (\S+) and (\S+)", lambda m: f"a number from {m.group(1)} to {m.group(2)}"),
-    (r"must be a finite number in \[(\S+), (\S+)\]", lambda m: f"a number from {m.group(1)} to {m.group(2)}"),
+    (r"must be a finite number in \[(\S+), (\S+)\]",
+     lambda m: f"a number from {_number(m.group(1))} to {_number(m.group(2))}"),
+    (r"must be a finite number in \((\S+), (\S+)\]",
+     lambda m: f"a number above {_number(m.group(1))} and at most {_number(m.group(2))}"),
     (r"must be a finite number in \((\S+), (\S+)\)",
      lambda m: f"a number between {m.group(1)} and {m.group(2)}, neither end included"),
     (r"must be a finite number >= (\S+)", lambda m: f"a number of {m.group(1)} or more"),
@@ -104,8 +111,18 @@ _RULES = [
     (r"must be \(a, b, c\) with a \+ b·d \+ c·d² > 0 at every distance.*",
      lambda m: "three numbers a, b, c with a + b·d + c·d² above 0 at every distance d, "
                "such as 1,0,0 (no fall-off) or 0,0,1 (inverse square)"),
+    (r"must be \(a, b, c\) with every coefficient within ±(\S+)",
+     lambda m: f"three numbers a, b, c, each at most {_number(m.group(1))} in size"),
     (r"must have every coordinate within ±(\S+) scene units", lambda m: f"coordinates of at most {m.group(1)} in size"),
 ]
+
+
+def _number(text: str) -> str:
+    """A number as a rule writes it, as a student reads it: ``1e6`` -> ``1,000,000``; others as written."""
+    m = re.fullmatch(r"1e\+?(\d+)", text)
+    return f"{10 ** int(m.group(1)):,}" if m else text
+
+
 #: comparison signs in a rule no pattern knew, as words
 _SIGNS = ((">=", "at least"), ("<=", "at most"), (">", "more than"), ("<", "less than"), ("≥", "at least"),
           ("≤", "at most"))
@@ -159,8 +176,12 @@ def _is_number(x) -> bool:
 
 
 def shown_value(text: str) -> str:
-    """The value as typed, short enough for a sentence (never quoted)."""
-    text = " ".join(str(text).split())
+    """The value as typed, short enough for a sentence (never quoted).
+
+    Characters that would act instead of show (NUL, a right-to-left
+    override) are escaped (:func:`phonglab.scene.errors.printable`).
+    """
+    text = printable(" ".join(str(text).split()))
     if not text:
         return "nothing"
     return text if len(text) <= SHOWN_CHARS else text[: SHOWN_CHARS - 1] + "…"

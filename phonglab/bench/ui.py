@@ -24,7 +24,9 @@ update to a file (:mod:`phonglab.app.timing`).
 
 It prints the median and 95th percentile of both apps, phonglab's median as
 a ratio to the baseline's (target ≤ 1.0) and phonglab's server time per
-update (target ≤ 30 ms), each with PASS or MISS; then the same for the turn.
+update (target ≤ 30 ms), each with PASS or MISS; then the same for the turn;
+then how long the page's Export PNG took to download, the first time after
+the server started and later (:mod:`phonglab.bench.ui_export`).
 
 The helpers that start and stop servers and Chromium are shared with the
 browser tests.
@@ -416,6 +418,7 @@ BASELINE_CANVAS = ".bench-view canvas"
 def run(args) -> int:
     from playwright.sync_api import sync_playwright
 
+    from phonglab.bench import ui_export
     from phonglab.bench.ui_turn import TURN_JS, Turn
     from phonglab.bench.usage import UsageError
 
@@ -437,6 +440,9 @@ def run(args) -> int:
             ours = _serve(stack, servers, lambda port: serve_command(lessons, port), tmp, "phonglab")
             our_page = open_page(browser, ours["url"], PHONGLAB_CANVAS, TURN_JS)
             stack.callback(our_page.close)
+            _progress("phonglab: the first export after the server started")
+            pause(our_page)  # no reading back of pixels meanwhile
+            first_export = ui_export.first_export(our_page, ours["started"])
             css = our_page.evaluate("(s) => { const c = document.querySelector(s); return [c.width, c.height]; }",
                                     PHONGLAB_CANVAS)  # device pixel ratio 1 in headless Chromium
             _progress(f"baseline: {BASELINE_POINTS} vertices, view {css[0]}x{css[1]} CSS px")
@@ -453,6 +459,10 @@ def run(args) -> int:
             _progress(f"{warmup} warm-up and {presses} measured rounds, each: a baseline key press, a phonglab "
                       "key press and a drag of phonglab's view, in rotating order")
             _interleave(probes, [base_page, our_page], presses=presses, warmup=warmup)
+            _progress(f"phonglab: {ui_export.LATER} later exports")
+            pause(base_page)
+            pause(our_page)
+            later_exports = ui_export.later_exports(our_page)
         except Exception as exc:
             logs = "\n".join(f"--- {s['name']} server log ---\n{log_tail(s['log'])}" for s in servers)
             raise RuntimeError(f"{exc}\n{logs}") from exc
@@ -466,6 +476,7 @@ def run(args) -> int:
                                        "server_cpu_ms": turn.server_ms(cpu=True),
                                        "step_px": turn.step_px, "missed": turn.missed}
     _report(results, points)
+    ui_export.report(first_export, later_exports)
     return 0
 
 
@@ -474,6 +485,7 @@ def _serve(stack, servers: list, command, tmp, name: str) -> dict:
     port = free_port()
     server = {"name": name, "url": f"http://127.0.0.1:{port}/", "timing": Path(tmp) / f"{name}-timing.txt",
               "log": Path(tmp) / f"{name}-server.log"}
+    server["started"] = time.monotonic()
     process = start_server(command(port), log_path=server["log"], env={"PHONGLAB_UI_TIMING": str(server["timing"])})
     servers.append(server)
     stack.callback(stop_server, process)

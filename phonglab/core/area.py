@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import InvalidValue, Material, _number, _rgb, vec3
+from .model import MAX_INTENSITY, InvalidValue, Material, _number, _rgb, vec3
 from .vectors import working_dtype
 
 __all__ = [
@@ -85,7 +85,7 @@ class AreaLight:
             object.__setattr__(self, name, vec3(f"AreaLight.{name}", getattr(self, name),
                                                  nonzero=name != "position"))
         object.__setattr__(self, "color", _rgb("AreaLight.color", self.color))
-        object.__setattr__(self, "intensity", _number("AreaLight.intensity", self.intensity))
+        object.__setattr__(self, "intensity", _number("AreaLight.intensity", self.intensity, maximum=MAX_INTENSITY))
         cross = np.cross(self.edge_u, self.edge_v)
         scale = math.hypot(*self.edge_u) * math.hypot(*self.edge_v)
         if not np.linalg.norm(cross) > 1e-12 * scale:

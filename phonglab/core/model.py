@@ -1,9 +1,35 @@
 """Materials and lights: frozen, validated descriptions of what is shaded.
 
 Validation happens once, here, when an object is made: every coefficient is a
-finite number (or an RGB triple of them), never negative; a bad value raises
+finite number (or an RGB triple of them), never negative and never above its
+upper limit (:data:`MAX_COEFFICIENT`, :data:`MAX_INTENSITY`,
+:data:`MAX_EXPONENT`, :data:`MAX_ATTENUATION`); a bad value raises
 :class:`InvalidValue` (a ``ValueError``) naming the field, the value and what is
 allowed. The shading code trusts these objects and does not check again.
+
+Why the upper limits
+--------------------
+The fast kernel works in float32, whose largest finite value is about
+3.4·10³⁸. With every factor at its limit, the brightest colour a scene can
+make, per channel, is
+
+.. math:: k_e + k_a I_a + \\sum_{l=1}^{16} f_{max} (k_d I_{d,l} + k_s I_{s,l})
+          \\le 10^3 + 10^3 \\cdot 16 \\cdot 10^9 + 16 \\cdot 10^{12} \\cdot 2 \\cdot 10^3 \\cdot 10^9
+          \\approx 3.2 \\cdot 10^{25}
+
+(``I = intensity × colour`` ≤ 10⁶ · 10³; at most 16 lights, the scene's limit;
+the attenuation factor ``f`` is capped at :data:`ATTENUATION_MAX` = 10¹²; the
+spot factor, ``max(0, n·l)`` and ``max(0, r·v)^α`` are at most 1). The display's
+exposure (at most :data:`MAX_EXPOSURE`) makes that 3.2·10²⁸, and a sum over
+every pixel of the largest figure (2²³ of them) 2.7·10³⁵: still finite, so no
+product or sum the shading and display steps form overflows.
+The exponents (shininess, a spot's fall-off) raise a number in [0, 1], which
+cannot overflow; their limit is the float32 resolution of ``r·v`` next to 1
+(steps of 2⁻²⁴): at α = 10⁶ the highlight's half-width, √(2 ln 2 / α) ≈ 1.2
+mrad, is already only a few such steps (≈ 0.35 mrad) wide, so a larger α
+draws nothing different. The attenuation coefficients multiply distances
+(at most 3.5·10⁶ between two points within the scene's ±10⁶ coordinates):
+``c d²`` ≤ 10⁶ · 1.2·10¹³ stays finite.
 
 Directions follow the package convention: they point *away from the surface*,
 so a :class:`DirectionalLight`'s ``direction`` points towards the light.
@@ -28,6 +54,12 @@ __all__ = [
     "light_from_homogeneous",
     "DISTANCE_FLOOR",
     "ATTENUATION_MAX",
+    "MAX_COEFFICIENT",
+    "MAX_INTENSITY",
+    "MAX_EXPONENT",
+    "MAX_ATTENUATION",
+    "MAX_EXPOSURE",
+    "limit_text",
 ]
 
 #: The illumination models :func:`~phonglab.core.shade` evaluates; every layer takes the list from here.
@@ -39,6 +71,17 @@ PHONG_MODELS = ("phong", "blinn-phong")
 DISTANCE_FLOOR = 1e-6
 #: The attenuation factor never exceeds this (its denominator is floored at the inverse).
 ATTENUATION_MAX = 1e12
+
+#: Largest ka, kd, ks, emission and light colour channel (color, diffuse, specular); see the module's Notes.
+MAX_COEFFICIENT = 1e3
+#: Largest light intensity.
+MAX_INTENSITY = 1e6
+#: Largest shininess α and spot fall-off exponent.
+MAX_EXPONENT = 1e6
+#: Largest size of an attenuation coefficient a, b or c.
+MAX_ATTENUATION = 1e6
+#: Largest display exposure (checked with the scene, which carries it).
+MAX_EXPOSURE = 1e3
 
 RGB = tuple[float, float, float]
 Vec3 = tuple[float, float, float]
@@ -55,10 +98,12 @@ class InvalidValue(ValueError):
         The value as given.
     allowed : str
         What would have been accepted.
+    limit : float or None
+        The upper limit the value passed, when that is what was wrong (None otherwise).
     """
 
-    def __init__(self, field: str, value, allowed: str):
-        self.field, self.value, self.allowed = field, value, allowed
+    def __init__(self, field: str, value, allowed: str, *, limit: float | None = None):
+        self.field, self.value, self.allowed, self.limit = field, value, allowed, limit
         super().__init__(f"{field}: {allowed}, got {_show(value)}")
 
 
@@ -69,8 +114,20 @@ def _show(value) -> str:
         return repr(value)
 
 
-def _number(where: str, value, *, minimum: float | None = 0.0, allowed: str | None = None) -> float:
-    """A finite float, optionally >= minimum."""
+def limit_text(x: float) -> str:
+    """A limit as a rule states it: ``1000``, ``1e6``.
+
+    >>> limit_text(1e3), limit_text(1e6), limit_text(0.5)
+    ('1000', '1e6', '0.5')
+    """
+    if x >= 1e4 and math.log10(x).is_integer():
+        return f"1e{int(math.log10(x))}"
+    return f"{x:g}"
+
+
+def _number(where: str, value, *, minimum: float | None = 0.0, maximum: float | None = None,
+            allowed: str | None = None) -> float:
+    """A finite float, optionally >= minimum and <= maximum (past it, a refusal naming the range)."""
     text = allowed or ("a finite number" + (f" >= {minimum:g}" if minimum is not None else ""))
     if isinstance(value, bool):
         raise InvalidValue(where, value, f"must be {text}")
@@ -80,24 +137,32 @@ def _number(where: str, value, *, minimum: float | None = 0.0, allowed: str | No
         raise InvalidValue(where, value, f"must be {text}") from None
     if not math.isfinite(x) or (minimum is not None and x < minimum):
         raise InvalidValue(where, value, f"must be {text}")
+    if maximum is not None and x > maximum:
+        raise InvalidValue(where, value, f"must be a finite number in [{minimum:g}, {limit_text(maximum)}]",
+                           limit=maximum)
     return x
 
 
 def _rgb(where: str, value) -> RGB:
-    """A scalar or an RGB triple of finite numbers >= 0, as a triple."""
+    """A scalar or an RGB triple of finite numbers in [0, MAX_COEFFICIENT], as a triple."""
     allowed = "must be a finite number >= 0 or an RGB triple of them"
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         x = _number(where, value, allowed=allowed[8:])
-        return (x, x, x)
-    try:
-        if isinstance(value, (str, bytes)):
-            raise TypeError
-        items = list(value)
-        if len(items) != 3:
-            raise TypeError
-        return tuple(_number(where, x) for x in items)  # type: ignore[return-value]
-    except (TypeError, InvalidValue):
-        raise InvalidValue(where, value, allowed) from None
+        items = [x]
+    else:
+        try:
+            if isinstance(value, (str, bytes)):
+                raise TypeError
+            items = list(value)
+            if len(items) != 3:
+                raise TypeError
+            items = [_number(where, x) for x in items]
+        except (TypeError, InvalidValue):
+            raise InvalidValue(where, value, allowed) from None
+    if max(items) > MAX_COEFFICIENT:
+        raise InvalidValue(where, value, f"must be a finite number in [0, {limit_text(MAX_COEFFICIENT)}] or an RGB "
+                                         "triple of them", limit=MAX_COEFFICIENT)
+    return (items[0],) * 3 if len(items) == 1 else tuple(items)  # type: ignore[return-value]
 
 
 def vec3(where: str, value, *, nonzero: bool = False) -> Vec3:
@@ -167,6 +232,9 @@ def _attenuation(where: str, value) -> Vec3:
         a, b, c = vec3(where, value)
     except InvalidValue:
         raise InvalidValue(where, value, allowed) from None
+    if max(abs(a), abs(b), abs(c)) > MAX_ATTENUATION:
+        raise InvalidValue(where, value, f"must be (a, b, c) with every coefficient within "
+                                         f"±{limit_text(MAX_ATTENUATION)}", limit=MAX_ATTENUATION)
     if c < 0 or (c == 0 and b < 0):
         raise InvalidValue(where, value, allowed)  # negative at large d
     # smallest value on [DISTANCE_FLOOR, inf): at the floor, or at the vertex -b / 2c
@@ -183,10 +251,10 @@ class Material:
     Parameters
     ----------
     ka, kd, ks : float or RGB triple
-        Ambient, diffuse and specular reflection coefficients, each >= 0; a
-        scalar means the same value in every channel.
+        Ambient, diffuse and specular reflection coefficients, each in
+        [0, :data:`MAX_COEFFICIENT`]; a scalar means the same value in every channel.
     shininess : float
-        The specular exponent α >= 0.
+        The specular exponent α in [0, :data:`MAX_EXPONENT`].
     emission : float or RGB triple, default 0
         Light the surface emits, ``k_e``.
     opacity : float in [0, 1], default 1
@@ -221,7 +289,7 @@ class Material:
     def __post_init__(self):
         for name in ("ka", "kd", "ks", "emission"):
             object.__setattr__(self, name, _rgb(f"Material.{name}", getattr(self, name)))
-        object.__setattr__(self, "shininess", _number("Material.shininess", self.shininess))
+        object.__setattr__(self, "shininess", _number("Material.shininess", self.shininess, maximum=MAX_EXPONENT))
         for name in ("opacity", "roughness", "metallic"):
             where = f"Material.{name}"
             x = _number(where, getattr(self, name), allowed="a number in [0, 1]")
@@ -248,7 +316,7 @@ class Light:
     def _validate_common(self):
         kind = type(self).__name__
         object.__setattr__(self, "color", _rgb(f"{kind}.color", self.color))
-        object.__setattr__(self, "intensity", _number(f"{kind}.intensity", self.intensity))
+        object.__setattr__(self, "intensity", _number(f"{kind}.intensity", self.intensity, maximum=MAX_INTENSITY))
         for name in ("diffuse", "specular"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, _rgb(f"{kind}.{name}", getattr(self, name)))
@@ -368,7 +436,7 @@ class SpotLight(PointLight):
         if not (0 < cutoff <= 90 or cutoff == 180):
             raise InvalidValue("SpotLight.cutoff", self.cutoff, allowed)
         object.__setattr__(self, "cutoff", cutoff)
-        object.__setattr__(self, "exponent", _number("SpotLight.exponent", self.exponent))
+        object.__setattr__(self, "exponent", _number("SpotLight.exponent", self.exponent, maximum=MAX_EXPONENT))
 
     @property
     def is_cone(self) -> bool:

@@ -45,6 +45,7 @@ from phonglab.scene.schema import (
     MODELS,
     SCENE_DEFAULTS,
     SCENE_KEYS,
+    limit_rule,
 )
 from phonglab.scene.toml_lines import render_key
 
@@ -125,6 +126,8 @@ def _refusal(exc: core.InvalidValue, path: str, given: dict) -> tuple[str, Scene
     if key not in given and "homogeneous" in given:  # the light that homogeneous = [x, y, z, w] made
         key = "homogeneous"
     rule = CORE_FIELDS.get(key, (None, None))[1]
+    if exc.limit is not None:  # above the core's upper limit: its words name the limit
+        rule = limit_rule(exc.allowed)
     return key, SceneError(rule or exc.allowed, field=join_path(path, key), value=given.get(key, exc.value))
 
 

@@ -12,7 +12,38 @@ from __future__ import annotations
 
 import difflib
 import math
+import unicodedata
 from typing import Any
+
+#: Unicode categories a message shows escaped: control characters (NUL, ESC, DEL ...), format
+#: characters (right-to-left overrides, zero-width marks), line and paragraph separators, lone surrogates
+_HIDDEN = frozenset({"Cc", "Cf", "Cs", "Zl", "Zp"})
+
+
+def printable(text: str) -> str:
+    """``text`` with every character that would act on the terminal or page instead of showing, escaped.
+
+    A NUL, an escape sequence or a right-to-left override from a file or a
+    browser would otherwise cut, recolour or reverse the rest of the message
+    it is echoed in; each is shown as Python writes it (``\\x00``, ``\\u202e``).
+
+    >>> printable("abc\\u202etxt.toml\\x00")
+    'abc\\\\u202etxt.toml\\\\x00'
+    """
+    text = str(text)
+    if text.isprintable():
+        return text
+    out = []
+    for ch in text:
+        if unicodedata.category(ch) not in _HIDDEN:
+            out.append(ch)
+        elif ord(ch) < 0x100:
+            out.append(f"\\x{ord(ch):02x}")
+        elif ord(ch) < 0x10000:
+            out.append(f"\\u{ord(ch):04x}")
+        else:
+            out.append(f"\\U{ord(ch):08x}")
+    return "".join(out)
 
 
 class SceneError(ValueError):
@@ -62,7 +93,7 @@ class SceneError(ValueError):
             text += f", got {show_value(self.value)}"
         if self.hint:
             text += f"; {self.hint}"
-        return text
+        return printable(text)
 
     def located(self, *, file=None, line=None, field=None) -> "SceneError":
         """A copy with the file, line or a field prefix filled in.
@@ -173,7 +204,7 @@ def _show_scalar(value: Any) -> str:
     if value is None:
         return "nothing"
     if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        return '"' + printable(value.replace("\\", "\\\\").replace('"', '\\"')) + '"'
     if isinstance(value, float) and value.is_integer() and abs(value) < 1e16:
         return str(int(value)) if value != 0 or math.copysign(1, value) > 0 else "-0"
     if hasattr(value, "tolist"):  # NumPy scalars
@@ -196,4 +227,4 @@ def did_you_mean(word: str, allowed) -> str | None:
     return f'did you mean "{close[0]}"?' if close else None
 
 
-__all__ = ["SceneError", "SceneErrors", "show_value", "join_path", "did_you_mean"]
+__all__ = ["SceneError", "SceneErrors", "show_value", "printable", "join_path", "did_you_mean"]

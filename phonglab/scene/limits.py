@@ -9,6 +9,10 @@ sake of the work or the arithmetic downstream:
   size: past it, a squared distance overflows float32 and labels are drawn
   at NaN;
 * at most :data:`~phonglab.scene.schema.MAX_LIGHTS` lights;
+* the exposure at most :data:`~phonglab.scene.schema.EXPOSURE_LIMIT`: with
+  it, the core's limits on coefficients, intensities and exponents keep every
+  value the shading and display steps form finite in float32 (the
+  derivation is in :mod:`phonglab.core.model`);
 * a Monte Carlo area light evaluates ``samples`` rays per shaded point: at
   most :data:`~phonglab.scene.schema.MAX_AREA_SAMPLE_POINTS` of them. The
   shaded points are the mesh's vertices, or in a per-pixel scene
@@ -27,7 +31,8 @@ from __future__ import annotations
 
 from phonglab.scene.errors import SceneError, join_path
 from phonglab.scene.meshsize import mesh_vertices
-from phonglab.scene.schema import MAX_AREA_SAMPLE_POINTS, MAX_COORDINATE, MAX_LIGHTS
+from phonglab.core.model import limit_text
+from phonglab.scene.schema import EXPOSURE_LIMIT, MAX_AREA_SAMPLE_POINTS, MAX_COORDINATE, MAX_LIGHTS
 
 #: area-light methods that shoot ``samples`` rays per point
 MONTE_CARLO_METHODS = ("uniform", "stratified")
@@ -53,6 +58,12 @@ def check_light_count(count: int) -> None:
     """Refuse more than :data:`MAX_LIGHTS` lights."""
     if count > MAX_LIGHTS:
         raise SceneError(f"has {count} lights, at most {MAX_LIGHTS} allowed", field="lights")
+
+
+def check_exposure(exposure) -> None:
+    """Refuse an exposure above :data:`~phonglab.scene.schema.EXPOSURE_LIMIT` (its lower bound is the field's own check)."""
+    if exposure is not None and float(exposure) > EXPOSURE_LIMIT:
+        raise SceneError(f"must be a finite number in (0, {limit_text(EXPOSURE_LIMIT)}]", field="exposure", value=exposure)
 
 
 def mesh_vertex_count(geometry) -> int | None:
@@ -166,6 +177,7 @@ def check_limits(parts: dict, data: dict) -> list[SceneError]:
         for key in ("position", "edge_u", "edge_v"):
             run(check_coordinates, f"area_light.{key}", getattr(area.light, key, None))
     run(check_coordinates, "probe", parts.get("probe"))
+    run(check_exposure, parts.get("exposure"))
     if area is not None and not errors and parts.get("geometry") is not None:
         try:
             vertices, pixels = shaded_points(parts)
@@ -175,5 +187,5 @@ def check_limits(parts: dict, data: dict) -> list[SceneError]:
     return errors
 
 
-__all__ = ["check_limits", "check_coordinates", "check_light_count", "check_area_work", "mesh_vertex_count",
+__all__ = ["check_limits", "check_coordinates", "check_light_count", "check_exposure", "check_area_work", "mesh_vertex_count",
            "shaded_points", "check_picture_work", "MONTE_CARLO_METHODS", "PIXEL_PICTURE"]

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import re
+import stat
 import tomllib
 from pathlib import Path
 
@@ -57,21 +58,49 @@ def display(path) -> str:
 
 
 def read_text(path, shown) -> str:
-    """The file's UTF-8 text; a SceneErrors naming the file (``shown``) when it cannot be read."""
+    """The file's UTF-8 text; a SceneErrors naming the file (``shown``) when it cannot be read.
+
+    Only a regular file is read: a FIFO, a device or a socket is refused
+    before it is opened (reading one could wait for ever), and the file is
+    opened without blocking and checked again, in case it was swapped
+    meanwhile. At most :data:`~phonglab.scene.schema.MAX_SCENE_FILE_BYTES`
+    are read.
+    """
+    def refused(problem):
+        return SceneErrors([SceneError(problem, file=shown)])
+
     try:
-        size = os.path.getsize(path) if Path(path).is_file() else 0
-        if size > MAX_SCENE_FILE_BYTES:
-            raise SceneErrors([SceneError(f"is too large: {size:,} bytes, at most {MAX_SCENE_FILE_BYTES:,} allowed",
-                                          file=shown)])
-        return Path(path).read_text(encoding="utf-8")
+        info = os.stat(path)
+        if stat.S_ISDIR(info.st_mode):
+            raise refused("is a folder, not a scene or lesson file")
+        if not stat.S_ISREG(info.st_mode):
+            raise refused(f"is {_file_kind(info.st_mode)}, not a regular file")
+        if info.st_size > MAX_SCENE_FILE_BYTES:
+            raise refused(f"is too large: {info.st_size:,} bytes, at most {MAX_SCENE_FILE_BYTES:,} allowed")
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+        with os.fdopen(fd, "rb") as f:
+            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+                raise refused("is not a regular file")
+            data = f.read(MAX_SCENE_FILE_BYTES + 1)
+        if len(data) > MAX_SCENE_FILE_BYTES:
+            raise refused(f"is too large: more than {MAX_SCENE_FILE_BYTES:,} bytes allowed")
+        # newlines as text mode reads them: \r\n and \r become \n
+        return data.decode("utf-8").replace("\r\n", "\n").replace("\r", "\n")
     except FileNotFoundError:
-        raise SceneErrors([SceneError("no such file", file=shown)]) from None
-    except IsADirectoryError:
-        raise SceneErrors([SceneError("is a folder, not a scene or lesson file", file=shown)]) from None
+        raise refused("no such file") from None
     except UnicodeDecodeError as exc:
-        raise SceneErrors([SceneError(f"is not UTF-8 text ({exc.reason} at byte {exc.start})", file=shown)]) from None
+        raise refused(f"is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     except OSError as exc:
-        raise SceneErrors([SceneError(f"cannot be read: {exc.strerror}", file=shown)]) from None
+        raise refused(f"cannot be read: {exc.strerror or exc}") from None
+
+
+def _file_kind(mode: int) -> str:
+    """What a file that is not regular is, in words."""
+    for test, words in ((stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
+                        (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return words
+    return "not a file"
 
 
 def parse_toml(text: str, shown: str, first_line: int = 1) -> dict:

@@ -28,6 +28,9 @@ PYVISTA_MESHES = {
 #: file extensions of surface meshes PyVista reads
 MESH_EXTENSIONS = (".ply", ".obj", ".stl", ".vtk", ".vtp", ".vtu", ".g", ".facet")
 
+#: the longest mesh path a scene may give, in characters (Linux's PATH_MAX)
+MAX_PATH_CHARS = 4096
+
 #: the project's assets folder (scene files, meshes)
 ASSETS_DIR = Path(__file__).resolve().parents[2] / "assets"
 
@@ -82,10 +85,15 @@ def resolve_mesh_path(path: str, base_dir: str | os.PathLike | None = None) -> s
     Raises
     ------
     SceneError
-        If the extension is not a mesh format or no file exists.
+        If the path is longer than :data:`MAX_PATH_CHARS`, the extension is
+        not a mesh format, the system refuses the name, or no file exists.
     """
     if not isinstance(path, str) or not path:
         raise SceneError("must be a mesh file name", field="path", value=path)
+    if len(path) > MAX_PATH_CHARS or "\0" in path:
+        problem = (f"is too long: {len(path):,} characters, at most {MAX_PATH_CHARS:,} allowed"
+                   if len(path) > MAX_PATH_CHARS else "must not contain a NUL character")
+        raise SceneError(problem, field="path", value=path)
     suffix = Path(path).suffix.lower()
     if suffix not in MESH_EXTENSIONS:
         raise SceneError(
@@ -100,8 +108,15 @@ def resolve_mesh_path(path: str, base_dir: str | os.PathLike | None = None) -> s
         folders = [Path(base_dir) if base_dir is not None else Path.cwd(), ASSETS_DIR]
         tried = [folder / candidate for folder in folders]
     for option in tried:
-        if option.is_file():
-            return str(option.resolve())
+        try:
+            if option.is_file():
+                return str(option.resolve())
+            if option.exists():  # a folder, a FIFO, a device: never opened
+                raise SceneError("must name a regular mesh file, not a folder, FIFO or device", field="path",
+                                 value=path)
+        except OSError as exc:  # a name the system refuses (a part longer than 255 bytes, a loop of links)
+            raise SceneError(f"cannot be used as a file name: {exc.strerror or exc}", field="path",
+                             value=path) from None
     raise SceneError(
         "no such mesh file",
         field="path",

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from phonglab import core
 from phonglab.core.display import DISPLAY_ENCODINGS
+from phonglab.core.model import MAX_EXPOSURE
 
 # ---------------------------------------------------------------------------
 # kinds, ranges and defaults
@@ -171,7 +172,8 @@ SHAPE_RULES = {
     "homogeneous": HOMOGENEOUS_RULE,
 }
 #: key -> (shape of its TOML value, rule in the file's words or None for the core's own words).
-#: The core decides which values are allowed; the rule only phrases its refusal for a file.
+#: The core decides which values are allowed; the rule only phrases its refusal for a file. A value
+#: above the core's upper limit is refused in the core's words (:func:`limit_rule`), which name the limit.
 CORE_FIELDS = {
     "ka": ("rgb", RGB_RULE),
     "kd": ("rgb", RGB_RULE),
@@ -194,6 +196,11 @@ CORE_FIELDS = {
     "edge_v": ("vector", None),
     "homogeneous": ("homogeneous", HOMOGENEOUS_RULE),
 }
+
+
+def limit_rule(allowed: str) -> str:
+    """The core's refusal of a value above its upper limit (``InvalidValue.limit`` set), in a file's words."""
+    return allowed.replace("an RGB triple of them", "a list of 3 of them (RGB)")
 
 
 def light_type(light) -> str:
@@ -294,6 +301,8 @@ MAX_MESH_VERTICES = 1_000_000
 MAX_MESH_TRIANGLES = 2_000_000
 #: most lights in a scene (OpenGL's fixed pipeline had 8)
 MAX_LIGHTS = 16
+#: largest display exposure (see phonglab.core.model: with it, every shaded value stays finite in float32)
+EXPOSURE_LIMIT = MAX_EXPOSURE
 #: largest |coordinate| of a position, direction, eye, focal point or up vector, in scene units
 #: (the meshes fit the unit sphere; beyond this, distances squared overflow float32)
 MAX_COORDINATE = 1e6
