@@ -45,7 +45,7 @@ from phonglab.scene.schema import SCENE_FIELDS
 TERMS = (("color", "All terms"), ("ambient", "Ambient"), ("diffuse", "Diffuse"), ("specular", "Specular"))
 #: light types a light control can switch between (ambient lights keep their type)
 LIGHT_TYPES = (("point", "Point"), ("directional", "Directional"), ("spot", "Spot"))
-MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"))
+MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"), ("cook-torrance", "Cook–Torrance"))
 INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)"), ("pixel", "Per pixel"))
 #: how the picture is encoded for the screen (the scene's ``display``)
 DISPLAYS = (("srgb", "sRGB"), ("linear", "linear (as 1990s fixed-function hardware did)"))
@@ -280,6 +280,11 @@ def scene_controls(scene, frame: Frame | None = None, *, read_field=field_value)
     for name, symbol in (("ka", "k_a"), ("kd", "k_d"), ("ks", "k_s")):
         controls += _coefficient(name, symbol, "Material")
     controls.append(_shininess("Material"))
+    # Cook–Torrance's lobe: roughness (α_GGX = roughness²) and how metallic the surface is
+    controls.append(_field("material.roughness", "roughness", "slider", read_field, low=0.0, high=1.0, step=0.01,
+                           group="Material"))
+    controls.append(_field("material.metallic", "metallic", "slider", read_field, low=0.0, high=1.0, step=0.01,
+                           group="Material"))
     for index in range(len(scene.lights)):
         controls += _light_controls(scene, index, frame, read_field)
     controls += _eye_controls(frame)

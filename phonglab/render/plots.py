@@ -19,6 +19,7 @@ import numpy as np  # noqa: E402
 from matplotlib.patches import Arc  # noqa: E402
 
 from phonglab import core  # noqa: E402
+from phonglab.core import microfacet  # noqa: E402
 from phonglab.render.errors import FigureError  # noqa: E402
 from phonglab.render.layout import canvas  # noqa: E402
 from phonglab.render.mesh import build_mesh  # noqa: E402
@@ -28,6 +29,8 @@ from phonglab.scene import trace  # noqa: E402
 
 #: shininess values drawn by the lobe plot (the scene's own is added)
 LOBE_EXPONENTS = (1, 4, 16, 64, 256)
+#: roughness values drawn by the Cook–Torrance lobe plot (the scene's own is added)
+LOBE_ROUGHNESS = (0.1, 0.25, 0.5, 0.75, 1.0)
 #: vector colours on white paper (darker than the on-screen arrows)
 PAPER_COLORS = {
     "N": "#0072b2",
@@ -58,8 +61,11 @@ def lobe_plot(scene, size):
     """The specular lobe :math:`\\max(0, \\cos\\phi)^\\alpha` for several α: polar and cartesian.
 
     φ is the angle between R and V (Phong) or N and H (Blinn-Phong); the
-    scene's own shininess is drawn thick.
+    scene's own shininess is drawn thick. Under Cook–Torrance the lobe is
+    the GGX distribution instead (:func:`ggx_lobe_plot`).
     """
+    if scene.model == "cook-torrance":
+        return ggx_lobe_plot(scene, size)
     alpha_scene = float(scene.material.shininess)
     exponents = sorted(set(LOBE_EXPONENTS) | {alpha_scene})
     angle_name = r"$\angle(N, H)$" if scene.model == "blinn-phong" else r"$\angle(R, V)$"
@@ -96,6 +102,60 @@ def lobe_plot(scene, size):
     # polar: R (or H) straight up, the surface along the horizontal, in the free left cell
     polar = _half_polar(fig, polar_cell, flat, fs,
                         f"lobe around {'N' if scene.model == 'blinn-phong' else 'R'} (polar)")
+    for lobe, style in curves:
+        polar.plot(phi, lobe, **style)
+    polar.set_rticks([0.25, 0.5, 0.75, 1.0])
+    return fig
+
+
+def ggx_half_width(roughness: float) -> float:
+    """The angle φ (degrees) at which the GGX distribution falls to half its peak."""
+    alpha2 = microfacet.ggx_alpha(roughness) ** 2
+    # D(φ)/D(0) = α⁴ / (cos²φ (α² − 1) + 1)² = 1/2  ⇔  cos²φ = (1 − √2 α²) / (1 − α²)
+    cos2 = (1 - math.sqrt(2) * alpha2) / (1 - alpha2) if alpha2 < 1 else 0.0
+    return math.degrees(math.acos(math.sqrt(max(cos2, 0.0)))) if alpha2 < 1 / math.sqrt(2) else 90.0
+
+
+def ggx_lobe_plot(scene, size):
+    """Cook–Torrance's lobe: the GGX distribution :math:`D(\\phi)/D(0)` for several roughnesses.
+
+    φ is the angle between N and H; the scene's own roughness is drawn thick.
+    """
+    rough_scene = float(scene.material.roughness)
+    values = sorted(set(LOBE_ROUGHNESS) | {rough_scene})
+    fs = _font(size)
+    fig = canvas(size)
+    polar_cell, flat_cell = _two_cells(fig, size, polar_first=True)
+    flat = fig.add_subplot(flat_cell)
+    curves = []
+    phi = np.linspace(-math.pi / 2, math.pi / 2, 721)
+    colors = plt.cm.viridis(np.linspace(0.05, 0.85, len(values)))
+    for roughness, color in zip(values, colors):
+        alpha = microfacet.ggx_alpha(roughness)
+        # D(φ) scaled so that its peak is 1: D(0) = 1/(π α²)
+        lobe = microfacet.ggx_distribution(1 - np.cos(phi), alpha) * (math.pi * alpha * alpha)
+        mine = roughness == rough_scene
+        label = (f"roughness {roughness:g}" + ("  (this scene)" if mine else "")
+                 + f"   half at {ggx_half_width(roughness):.1f}°")
+        style = dict(color="black" if mine else color, lw=3.2 if mine else 1.6,
+                     ls="-" if mine or roughness in LOBE_ROUGHNESS else "--")
+        curves.append((lobe, style))
+        flat.plot(np.degrees(phi), lobe, label=label, **style)
+    flat.set_xlim(-90, 90)
+    flat.set_ylim(0, 1.05)
+    flat.set_xticks(range(-90, 91, 30))
+    flat.set_xlabel(r"φ = $\angle(N, H)$ in degrees", fontsize=fs)
+    flat.set_ylabel(r"$D(\varphi)\,/\,D(0)$", fontsize=fs)
+    flat.tick_params(labelsize=fs * 0.85)
+    flat.grid(alpha=0.3)
+    flat.set_title("rougher: a wider lobe (each scaled to its peak)", fontsize=fs * 1.1)
+    fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
+    title = fig.suptitle(r"GGX lobe  $D = \alpha^2 / \pi((n\cdot h)^2(\alpha^2-1)+1)^2$", fontsize=fs * 1.35,
+                         weight="bold", va="top", y=1 - _pad(size) / size[1])
+    legend = _bottom_legend(fig, *flat.get_legend_handles_labels(), fontsize=fs * 0.85)
+    _tight(fig, title, legend)
+    keep_inside(flat.title, fig, _pad(size))
+    polar = _half_polar(fig, polar_cell, flat, fs, "lobe around N (polar)")
     for lobe, style in curves:
         polar.plot(phi, lobe, **style)
     polar.set_rticks([0.25, 0.5, 0.75, 1.0])
