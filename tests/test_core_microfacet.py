@@ -11,7 +11,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from phonglab.accuracy.furnace import directional_albedo, ggx_albedo_alpha1
+from phonglab.core.furnace import directional_albedo, ggx_albedo_alpha1
 from phonglab.core.microfacet import (
     MIN_ROUGHNESS,
     fresnel_f0,

@@ -17,8 +17,7 @@ of those layers and finds both:
   ``to_light``, ``to_eye``), as a variable or an attribute (``vec.l``).
 
 A few modules are exempt, by design (:data:`EXEMPT`): the independent
-50-digit mpmath evaluation the core is measured against, the white-furnace
-quadrature (whose dot products place its sample directions), and the two
+50-digit mpmath evaluation the core is measured against and the two
 textbook baselines the benchmarks time the core and the page against.
 """
 
@@ -34,7 +33,6 @@ ABOVE = ("scene", "render", "accuracy", "app", "bench", "cli")
 #: module -> why it may compute the model itself
 EXEMPT = {
     "accuracy/precision.py": "the independent mpmath reference the core is measured against",
-    "accuracy/furnace.py": "the white-furnace quadrature: its cosines place the sample directions, the lobes are the core's",
     "bench/core.py": "naive_phong, the textbook NumPy Phong the fast kernel's speed is compared with",
     "bench/ui_baseline.py": "the plain trame app (its own textbook Phong) the page's speed is compared with",
 }

@@ -170,7 +170,7 @@ def _probe(scene):
 
 
 #: a claim's name for a quantity at the probe -> the record's name
-_PROBE_NAMES = {"nl": "n·l", "rv": "r·v", "nh": "n·h", "distance": "d"}
+_PROBE_NAMES = {"nl": "n·l", "rv": "r·v", "nh": "n·h", "distance": "d", "nv": "n·v", "vh": "v·h"}
 
 
 def _probe_value(scene, quantity: str, channel: str = "max") -> float:
@@ -183,6 +183,8 @@ def _probe_value(scene, quantity: str, channel: str = "max") -> float:
     name = _PROBE_NAMES.get(quantity, quantity)
     if name in light.values and np.ndim(light[name]) == 0:
         return float(light[name])
+    if name in light.values and np.ndim(light[name]) == 1:  # a colour (Cook–Torrance's F)
+        return float(_channel(light[name], channel))
     if name in ("attenuation", "spot"):
         return 1.0  # a directional light (or a point light, for the spot factor) has none
     if name == "d":
@@ -350,6 +352,13 @@ def _shown_sum_gap(scene, channel: str = "max") -> float:
     return float((gap.max(axis=-1) if channel == "max" else gap[:, "rgb".index(channel)]).mean())
 
 
+def _albedo(model: str, view_angle: float, width: float) -> float:
+    from phonglab.core.furnace import directional_albedo
+
+    key = "roughness" if model == "cook-torrance" else "shininess"
+    return directional_albedo(model, float(view_angle), **{key: float(width)})
+
+
 def _degrees(f):
     return lambda x: f(math.radians(x))
 
@@ -377,6 +386,7 @@ FUNCTIONS = {
     "area_ratio": (True, _area_ratio),
     "sum_gap": (True, _sum_gap),
     "blocked": (True, _blocked),
+    "albedo": (False, _albedo),
     "shown_mean": (True, _shown_mean),
     "shown_median": (True, _shown_median),
     "shown_peak": (True, _shown_peak),

@@ -37,6 +37,8 @@ KINDS = {
     "render": ("", {"vectors": "NLRVH"}),
     "terms": ("-terms", {"terms": True}),
     "mistake": ("-mistake", {"compare": True}),
+    "models": ("-models", {"models": True}),
+    "furnace": ("-furnace", {"plot": "furnace"}),
 }
 
 
@@ -70,6 +72,8 @@ def render_png(scene, kind: str, mistake: str | None = None, *, shown_mistake: s
     with tempfile.TemporaryDirectory(prefix="phonglab-export-") as folder:
         if kind == "mistake":
             extra = {"mistake": mistake}
+        elif kind in ("models", "furnace"):  # the correct models only
+            extra = {}
         else:
             extra = {"mistake": shown_mistake} if shown_mistake else {}
         # each view of a grid figure done is a step the page shows (in a worker; nothing elsewhere)
@@ -282,7 +286,9 @@ def export_menu_items(export):
 
     entries = [("render", "This view (PNG)", "mdi-image-outline", None),
                ("terms", "Per-term figure (PNG)", "mdi-view-grid-outline", None),
-               ("mistake", "Correct vs. common mistake (PNG)", "mdi-alert-outline", "!mistake")]
+               ("mistake", "Correct vs. common mistake (PNG)", "mdi-alert-outline", "!mistake"),
+               ("models", "Phong beside Cook–Torrance (PNG)", "mdi-compare", None),
+               ("furnace", "White furnace: light each model sends back (PNG)", "mdi-fire", None)]
     for kind, title, icon, disabled in entries:
         v3.VListItem(title=title, prepend_icon=icon, click=(export, f"['{kind}']"),
                      disabled=(disabled,) if disabled else False,

@@ -8,6 +8,7 @@ Examples::
     phonglab export assets/scenes/sphere.toml -o terms.png --terms --set interpolation=pixel
     phonglab export assets/scenes/sphere.toml -o lobe.pdf --plot lobe
     phonglab export lessons/03-diffuse.md -o mistake.png --mistake lesson --compare
+    phonglab export assets/scenes/sphere.toml -o models.png --models --set material.roughness=0.3
     phonglab export assets/scenes/sphere.toml -o wrong.png --mistake zero-shininess --terms
 
 Exit status: 0 written, 2 bad input (a one-line error naming the problem;
@@ -47,7 +48,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="a grid with one render per value; give twice for rows x columns",
     )
     parser.add_argument("--plot", choices=PLOTS, help="a plot instead of a render: the specular lobe, "
-                        "Lambert's cosine or the plane of incidence at the probe")
+                        "Lambert's cosine, the plane of incidence at the probe, or the white furnace (the "
+                        "light each model sends back)")
     parser.add_argument("--supersample", type=int, default=2, metavar="N",
                         help="antialiasing: render N times larger and average down (default 2)")
     parser.add_argument(
@@ -57,6 +59,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     parser.add_argument("--compare", action="store_true",
                         help="with --mistake: the correct picture and the mistaken one side by side")
+    parser.add_argument("--models", action="store_true",
+                        help="the scene under Phong and under Cook–Torrance side by side (same mesh, lights and eye)")
     return parser
 
 
@@ -88,10 +92,11 @@ def run(args) -> int:
             terms=args.terms,
             sweep=args.sweep or None,
             plot=args.plot,
-            progress=stderr_progress if (args.sweep or args.terms or args.compare) else None,
+            progress=stderr_progress if (args.sweep or args.terms or args.compare or args.models) else None,
             supersample=args.supersample,
             mistake=args.mistake,
             compare=args.compare,
+            models=args.models,
         )
     except (SceneError, FigureError) as exc:
         raise UsageError(_one_line(exc)) from None

@@ -144,6 +144,7 @@ def figure(
     background=BACKGROUND,
     mistake: str | None = None,
     compare: bool = False,
+    models: bool = False,
 ) -> Path:
     """Render a scene or lesson to a PNG (or SVG/PDF) figure.
 
@@ -169,10 +170,12 @@ def figure(
         One or two sweeps, each ``(path, values)`` or ``"path=v1,v2,..."``:
         a grid with one render per cell, rows from the first sweep and
         columns from the second.
-    plot : {"lobe", "lambert", "incidence"}, optional
+    plot : {"lobe", "lambert", "incidence", "furnace"}, optional
         A matplotlib plot instead of a render: the specular lobe
-        :math:`\\max(0, \\cos\\phi)^\\alpha`, the Lambert cosine, or the plane
-        of incidence at the scene's probe point.
+        :math:`\\max(0, \\cos\\phi)^\\alpha` (the GGX distribution under
+        Cook–Torrance), the Lambert cosine, the plane of incidence at the
+        scene's probe point, or the white furnace (the light each model sends
+        back, :mod:`phonglab.core.furnace`).
     progress : callable or bool, optional
         ``progress(done, total, label)`` after each render of a grid; True
         prints to stderr.
@@ -193,6 +196,11 @@ def figure(
         With ``mistake``: the correct render and the mistaken one side by
         side (one above the other in a tall figure), labelled "correct" and
         "common mistake: ...".
+    models : bool
+        The scene under Phong and under Cook–Torrance side by side (stacked
+        in a tall figure): the same mesh, lights, eye and probe, each shaded
+        by the core with its own model, labelled with the model and its lobe
+        parameters (α; roughness and metallic).
 
     Returns
     -------
@@ -233,6 +241,9 @@ def figure(
         raise FigureError("compare: the side-by-side comparison cannot be combined with terms, sweeps or plots")
     if mistake is not None and plot is not None:
         raise FigureError("mistake: plots show the correct model only; a mistake cannot be combined with plot")
+    if models and (terms or sweep or plot is not None or compare or mistake is not None):
+        raise FigureError("models: Phong beside Cook–Torrance cannot be combined with terms, sweeps, plots or "
+                          "a mistake")
     base, lesson = resolve_source(scene_or_path)
     source = os.fspath(scene_or_path) if isinstance(scene_or_path, (str, os.PathLike)) else ""
     mistake = resolve_mistake(mistake, lesson, source)
@@ -244,7 +255,7 @@ def figure(
         # the grid must have room for its cells before n × m scenes are built
         rows, cols = (len(sweeps[0][1]), len(sweeps[1][1])) if len(sweeps) == 2 else (1, len(sweeps[0][1]))
         grid_layout(size, rows, cols, title=bool(scene.title), row_labels=len(sweeps) == 2, col_labels=True)
-    grid = bool(terms or sweeps or compare)
+    grid = bool(terms or sweeps or compare or models)
     letters = (None if grid else "NLRVH") if vectors == AUTO else vectors
     try:
         letters = parse_vectors(letters)
@@ -260,6 +271,10 @@ def figure(
         save_figure(fig, path, ext)
     elif compare:
         fig = _compare_figure(scene, mistake, size, letters, supersample, background, progress)
+        save_figure(fig, path, ext)
+    elif models:
+        fig = models_figure(scene, size, letters=letters, supersample=supersample, background=background,
+                            progress=progress)
         save_figure(fig, path, ext)
     elif sweeps:
         fig = _sweep_figure(scene, sweeps, size, letters, supersample, background, progress, mistake=mistake)
@@ -448,6 +463,39 @@ def _sweep_figure(scene, sweeps, size, letters, supersample, background, progres
     if mistake is not None:
         for box in (b for row in boxes for b in row):
             frame(fig, box, size, u, WRONG_COLOR)
+    return fig
+
+
+# ---------------------------------------------------------------------------
+# Phong beside Cook–Torrance
+
+#: the models the side-by-side view compares, in its order, and their labels
+COMPARED_MODELS = (("phong", "Phong"), ("cook-torrance", "Cook–Torrance"))
+
+
+def model_label(scene, model: str) -> str:
+    """A panel's label: the model and the material parameters its lobe uses."""
+    m = scene.material
+    if model == "cook-torrance":
+        return f"Cook–Torrance: roughness {m.roughness:g}, metallic {m.metallic:g}"
+    return f"{dict(COMPARED_MODELS).get(model, 'Blinn-Phong')}: α = {m.shininess:g}"
+
+
+def models_figure(scene, size, *, letters=None, supersample: int = 2, background=BACKGROUND, progress=None):
+    """The scene under each of :data:`COMPARED_MODELS`, side by side (stacked when tall), labelled.
+
+    Every panel is the same mesh, lights, eye and probe, shaded by the core
+    with its own model; the panel of the scene's own model is framed.
+    """
+    rows, cols = (1, len(COMPARED_MODELS)) if size[0] >= size[1] else (len(COMPARED_MODELS), 1)
+    cells = [(scene.replace("model", model), "color", label, None) for model, label in COMPARED_MODELS]
+    labels = [(model_label(scene, model), RIGHT_LABEL_BOX) for model, _ in COMPARED_MODELS]
+    fig, boxes, u = _grid_figure(scene, cells, rows, cols, size, letters, supersample, background, progress,
+                                 title=scene.title or "Phong beside Cook–Torrance", labels=labels)
+    own = [m for m, _ in COMPARED_MODELS].index(scene.model) if scene.model in dict(COMPARED_MODELS) else None
+    if own is not None:
+        flat = [b for row in boxes for b in row]
+        frame(fig, flat[own], size, u, RIGHT_COLOR)
     return fig
 
 

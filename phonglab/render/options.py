@@ -22,7 +22,7 @@ from phonglab.teaching import MISTAKES
 #: output formats, by file extension
 FORMATS = (".png", ".svg", ".pdf")
 #: what ``plot=`` accepts
-PLOTS = ("lobe", "lambert", "incidence")
+PLOTS = ("lobe", "lambert", "incidence", "furnace")
 #: the figure's default size in pixels (width, height)
 DEFAULT_SIZE = (1200, 900)
 #: smallest width or height accepted, in pixels

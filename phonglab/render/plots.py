@@ -19,7 +19,7 @@ import numpy as np  # noqa: E402
 from matplotlib.patches import Arc  # noqa: E402
 
 from phonglab import core  # noqa: E402
-from phonglab.core import microfacet  # noqa: E402
+from phonglab.core import furnace, microfacet  # noqa: E402
 from phonglab.render.errors import FigureError  # noqa: E402
 from phonglab.render.layout import canvas  # noqa: E402
 from phonglab.render.mesh import build_mesh  # noqa: E402
@@ -43,7 +43,7 @@ PAPER_COLORS = {
 
 def make_plot(kind: str, scene, size):
     """The plot named ``kind`` ("lobe", "lambert" or "incidence") for ``scene``."""
-    makers = {"lobe": lobe_plot, "lambert": lambert_plot, "incidence": incidence_plot}
+    makers = {"lobe": lobe_plot, "lambert": lambert_plot, "incidence": incidence_plot, "furnace": furnace_plot}
     return makers[kind](scene, size)
 
 
@@ -159,6 +159,65 @@ def ggx_lobe_plot(scene, size):
     for lobe, style in curves:
         polar.plot(phi, lobe, **style)
     polar.set_rticks([0.25, 0.5, 0.75, 1.0])
+    return fig
+
+
+#: the furnace plot's curves: (model, lobe width, label); roughness for Cook–Torrance, α for Phong
+FURNACE_CURVES = (
+    ("phong", 0.25, "Phong, α = 0.25"),
+    ("phong", 1.0, "Phong, α = 1"),
+    ("phong", 10.0, "Phong, α = 10"),
+    ("phong-normalised", 10.0, "normalised Phong, α = 10"),
+    ("cook-torrance", 0.1, "Cook–Torrance, roughness 0.1"),
+    ("cook-torrance", 0.5, "Cook–Torrance, roughness 0.5"),
+    ("cook-torrance", 1.0, "Cook–Torrance, roughness 1"),
+)
+#: view angles of the furnace plot, degrees from the normal
+FURNACE_ANGLES = tuple(range(0, 90, 5)) + (88.0,)
+
+
+def furnace_plot(scene, size):
+    """The white furnace: the light each model sends back, as a fraction of the light arriving.
+
+    For each view angle, :func:`phonglab.core.furnace.directional_albedo` of a
+    white surface: plain Phong (``k_s = 1``) at several α, energy-normalised
+    Phong and a white Cook–Torrance metal at several roughnesses. Above the
+    line at 1 a model makes light; below it, it loses some. The scene's own
+    model and lobe width are drawn thick.
+    """
+    mine = ("cook-torrance", float(scene.material.roughness)) if scene.model == "cook-torrance" else \
+        ("phong", float(scene.material.shininess))
+    curves = list(FURNACE_CURVES)
+    if all((m, w) != mine for m, w, _ in curves):
+        width = mine[1]
+        curves.append((mine[0], width, f"Cook–Torrance, roughness {width:g}" if mine[0] == "cook-torrance"
+                       else f"Phong, α = {width:g}"))
+    fs = _font(size)
+    fig = canvas(size)
+    ax = fig.add_subplot(1, 1, 1)
+    colors = {"phong": "#d5401a", "phong-normalised": "#0072b2", "cook-torrance": "#009e73"}
+    dashes = ["-", "--", ":", "-."]
+    seen = {}
+    for model, width, label in curves:
+        kw = {"roughness": width} if model == "cook-torrance" else {"shininess": width}
+        albedo = [furnace.directional_albedo(model, a, n_xi=128, n_phi=128, **kw) for a in FURNACE_ANGLES]
+        thick = (model, width) == mine
+        style = seen.setdefault((model, width), dashes[sum(m == model for m, _ in seen) % len(dashes)])
+        ax.plot(FURNACE_ANGLES, albedo, color="black" if thick else colors[model], lw=3.2 if thick else 1.8,
+                ls=style, label=label + ("  (this scene)" if thick else ""))
+    ax.axhline(1.0, color="#555555", lw=1.0)
+    ax.text(1, 1.0, "  all the light that arrives", va="bottom", ha="left", fontsize=fs * 0.85, color="#555555")
+    ax.set_xlim(0, 90)
+    ax.set_ylim(0, max(1.7, ax.get_ylim()[1]))
+    ax.set_xticks(range(0, 91, 15))
+    ax.set_xlabel("view angle from the normal, degrees", fontsize=fs)
+    ax.set_ylabel("light sent back / light arriving", fontsize=fs)
+    ax.tick_params(labelsize=fs * 0.85)
+    ax.grid(alpha=0.3)
+    title = fig.suptitle("White furnace: which models make or lose light", fontsize=fs * 1.35, weight="bold",
+                         va="top", y=1 - _pad(size) / size[1])
+    legend = _bottom_legend(fig, *ax.get_legend_handles_labels(), fontsize=fs * 0.85)
+    _tight(fig, title, legend)
     return fig
 
 

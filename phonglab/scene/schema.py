@@ -234,7 +234,9 @@ CLAIM_MAX_CHARS = 400
 CLAIM_MAX_NODES = 80
 #: what ``probe(QUANTITY)`` and ``peak``/``mean`` may measure
 PROBE_QUANTITIES = ("nl", "rv", "nh", "distance", "attenuation", "spot",
-                    "ambient", "diffuse", "specular", "emission", "color")
+                    "ambient", "diffuse", "specular", "emission", "color",
+                    # Cook–Torrance's: n·v, v·h, the distribution D, the visibility V, Fresnel's F (a colour)
+                    "nv", "vh", "D", "V", "F")
 IMAGE_TERMS = ("ambient", "diffuse", "specular", "emission", "color")
 CHANNELS = ("r", "g", "b", "max")
 #: the pictures the page shows: the sum, or one term (its term buttons)
@@ -275,6 +277,10 @@ CLAIM_FUNCTIONS = {
                     "(the point would be in its shadow; the model does not look), else 0"),
     "sum_gap": ((CHANNELS + ("?",),), "the largest difference, over the picture's pixels, between the colour and "
                                       "the sum of its terms (the model's numbers)"),
+    "albedo": ((("cook-torrance", "phong", "phong-normalised"), "number", "number"),
+               "the white furnace: the fraction of the light arriving from every direction that a white surface "
+               "of this model sends back towards an eye this many degrees off the normal, for a lobe width "
+               "(roughness for Cook–Torrance, α for Phong)"),
     # the picture the page shows: 8-bit levels 0 to 255 of the pixels the surface covers
     "shown_mean": ((SHOWN_TERMS, CHANNELS + ("?",)), "the mean level of the picture shown"),
     "shown_median": ((SHOWN_TERMS, CHANNELS + ("?",)), "the median level of the picture shown"),

@@ -23,6 +23,8 @@ energy keeps ``ρ ≤ 1`` for every view; a model that makes light gives
   :func:`~phonglab.core.microfacet.phong_normalisation` ``(α + 2)/(2π)`` and
   keeps the ``n·l``: ``ρ = 1`` head-on and below 1 elsewhere.
 
+This is the core's because it is the models' physics (how much light
+each creates or loses), used by the tests, the furnace plot and lesson 13.
 The integrals are deterministic quadratures, importance-mapped so that a
 sharp lobe is resolved: Gauss–Legendre in the sampling variable of each
 lobe (the GGX distribution of half vectors, or ``cos^α`` around the mirror
@@ -37,7 +39,7 @@ import math
 
 import numpy as np
 
-from phonglab.core.microfacet import ggx_alpha, ggx_distribution, phong_normalisation, smith_visibility_nl
+from .microfacet import ggx_alpha, ggx_distribution, phong_normalisation, smith_visibility_nl
 
 __all__ = ["directional_albedo", "ggx_albedo_alpha1", "FURNACE_MODELS"]
 
