@@ -197,9 +197,10 @@ def about_problem(about: str, tree: ast.Expression) -> str | None:
 
 
 #: words that say how the picture looks; a sentence using one is a sentence about the picture.
-#: (Words of viewpoint, "the side you see", say nothing about the picture; "white light" is a colour.)
+#: (Words of viewpoint, "the side you see", say nothing about the picture; "white light" is a colour, a
+#: "white metal" a material and the "white furnace" a test of the model.)
 SEEING_WORDS = re.compile(
-    r"\b(black|white(?! lights?\b)|dark|darker|darkest|bright|brighter|brightest|dim|dimmer|flattens|glows?|"
+    r"\b(black|white(?! (?:lights?|metals?|furnace)\b)|dark|darker|darkest|bright|brighter|brightest|dim|dimmer|flattens|glows?|"
     r"gives back|catch(?:es)? up|clipped|washes out|fades?|pitch)\b",
     re.IGNORECASE)
 
