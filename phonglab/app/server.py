@@ -27,6 +27,9 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import ctypes
+import ctypes.util
+import functools
 import logging
 import secrets
 import signal
@@ -45,8 +48,67 @@ log = logging.getLogger(__name__)
 HEARTBEAT_SECONDS = 30
 #: seconds a new connection has to send its hello
 HELLO_SECONDS = 10
+#: how often the hello's clock looks at the event loop, in seconds
+HELLO_TICK = 0.25
+#: seconds the server waits for its sessions' sockets to close when it stops
+STOP_SECONDS = 1.0
 #: what a tab sees when the server already has its sessions
 FULL_MESSAGE = "The server is full ({n} sessions open): try again later."
+
+
+def _release_memory() -> None:
+    """Give the memory a closed session freed back to the system (glibc keeps it in its arenas otherwise).
+
+    A session's mesh, render window and arrays are freed when it closes, but
+    glibc's allocator keeps most of the freed pages for later use, so the
+    server's resident memory grew by several megabytes per closed tab;
+    ``malloc_trim(0)`` returns them. Elsewhere than glibc this does nothing.
+    """
+    trim = _malloc_trim()
+    if trim is not None:
+        trim(0)
+
+
+@functools.lru_cache(maxsize=1)
+def _malloc_trim():
+    try:
+        return ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6").malloc_trim
+    except (OSError, AttributeError):
+        return None
+
+
+async def _first_message(socket: web.WebSocketResponse):
+    """The connection's first message, within :data:`HELLO_SECONDS` of the event loop's own time.
+
+    The hello's clock runs only while the loop is free to read it: when the
+    loop is held up (several tabs' sessions being built one after the other,
+    a second or so each), a hello that arrived meanwhile is still read,
+    instead of the connection being dropped as silent while its hello waited
+    in the buffer. A stall counts as one tick of the clock.
+
+    Raises
+    ------
+    ProtocolError
+        When nothing arrives within :data:`HELLO_SECONDS` of the loop's responsive time.
+    """
+    loop = asyncio.get_running_loop()
+    receive = asyncio.ensure_future(socket.receive())
+    waited, last = 0.0, loop.time()
+    try:
+        while True:
+            done, _ = await asyncio.wait({receive}, timeout=HELLO_TICK)
+            if done:
+                return receive.result()
+            now = loop.time()
+            waited += min(now - last, 2 * HELLO_TICK)  # a stall of the loop is not the client's silence
+            last = now
+            if waited >= HELLO_SECONDS:
+                raise protocol.ProtocolError(f"no hello within {HELLO_SECONDS} s")
+    finally:
+        if not receive.done():
+            receive.cancel()
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await receive
 
 
 class _Frame:
@@ -91,6 +153,7 @@ class SessionServer:
         self.sessions: dict[str, object] = {}
         self._admitted = 0  # sessions open or being built
         self._sockets: set = set()
+        self._handlers: set = set()  # the WebSocket handlers' tasks, each closing its session when it ends
         self.web_app = web.Application()
         self.web_app.router.add_get("/", self._index)
         self.web_app.router.add_get("/index.html", self._page)
@@ -141,9 +204,12 @@ class SessionServer:
     async def _websocket(self, request: web.Request):
         self._check_origin(request)
         name = "s" + uuid.uuid4().hex
-        socket = web.WebSocketResponse(max_msg_size=protocol.MAX_FRAME_BYTES, heartbeat=HEARTBEAT_SECONDS)
+        # the close handshake waits STOP_SECONDS at most for the browser's answer
+        socket = web.WebSocketResponse(max_msg_size=protocol.MAX_FRAME_BYTES, heartbeat=HEARTBEAT_SECONDS,
+                                       timeout=STOP_SECONDS)
         await socket.prepare(request)
         self._sockets.add(socket)
+        self._handlers.add(asyncio.current_task())
         try:
             if await self._admit(name, socket):
                 self._admitted += 1
@@ -158,14 +224,12 @@ class SessionServer:
             log.exception("session %s failed", name)
         finally:
             self._sockets.discard(socket)
+            self._handlers.discard(asyncio.current_task())
         return socket
 
     async def _admit(self, name: str, socket: web.WebSocketResponse) -> bool:
         """Wait for the hello; True when its secret is right and there is room for one more session."""
-        try:
-            first = await socket.receive(timeout=HELLO_SECONDS)
-        except asyncio.TimeoutError:
-            raise protocol.ProtocolError(f"no hello within {HELLO_SECONDS} s") from None
+        first = await _first_message(socket)
         if first.type != aiohttp.WSMsgType.BINARY:
             if first.type in (aiohttp.WSMsgType.CLOSE, aiohttp.WSMsgType.CLOSING, aiohttp.WSMsgType.CLOSED):
                 return False
@@ -252,7 +316,7 @@ class SessionServer:
             if app is not None:
                 await app.server.stop()
             if task is not None:
-                await asyncio.wait_for(asyncio.shield(task), timeout=5)
+                await asyncio.wait_for(asyncio.shield(task), timeout=STOP_SECONDS)
         except Exception:
             log.exception("closing session %s", name)
         finally:
@@ -263,6 +327,7 @@ class SessionServer:
                     closer()
                 except Exception:
                     log.exception("releasing session %s", name)
+            _release_memory()
             self._notify("close", name)
 
     def _notify(self, event: str, name: str) -> None:
@@ -288,21 +353,34 @@ class SessionServer:
         for signum in (signal.SIGINT, signal.SIGTERM):
             with contextlib.suppress(NotImplementedError, RuntimeError):
                 loop.add_signal_handler(signum, self.stop)
-        runner = web.AppRunner(self.web_app, handle_signals=False, access_log=None)
+        runner = web.AppRunner(self.web_app, handle_signals=False, access_log=None, shutdown_timeout=STOP_SECONDS)
         await runner.setup()
-        site = web.TCPSite(runner, host, port)
-        await site.start()
-        bound = site._server.sockets[0].getsockname()[1] if site._server and site._server.sockets else port
-        if on_ready is not None:
-            on_ready(bound)
         try:
+            site = web.TCPSite(runner, host, port)
+            await site.start()
+            bound = site._server.sockets[0].getsockname()[1] if site._server and site._server.sockets else port
+            if on_ready is not None:
+                on_ready(bound)
             await self._stopped
         finally:
-            # close the open tabs' sockets so their sessions end, then the server
-            for socket in list(self._sockets):
-                with contextlib.suppress(Exception):
-                    await socket.close(code=aiohttp.WSCloseCode.GOING_AWAY, message=b"server stopping")
+            await self._close_all()
             await runner.cleanup()
+
+    async def _close_all(self) -> None:
+        """Close every tab's socket (code 1001, going away) and wait for their sessions to close.
+
+        The sockets close together, each waiting :data:`STOP_SECONDS` at most
+        for its browser's answer; then each session's handler closes its app
+        and releases its view. Whatever is still running after twice that is
+        cancelled by the web server's own shutdown.
+        """
+        sockets = list(self._sockets)
+        if sockets:
+            await asyncio.gather(*(socket.close(code=aiohttp.WSCloseCode.GOING_AWAY, message=b"server stopping")
+                                   for socket in sockets), return_exceptions=True)
+        handlers = [task for task in self._handlers if not task.done()]
+        if handlers:
+            await asyncio.wait(handlers, timeout=2 * STOP_SECONDS)
 
     def stop(self) -> None:
         """Ask :meth:`run` to return."""
