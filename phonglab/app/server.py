@@ -77,6 +77,74 @@ def _malloc_trim():
         return None
 
 
+def add_page_routes(web_app: web.Application, make_app: Callable) -> str:
+    """Serve the page on ``web_app``: ``/`` and ``/index.html`` (with :data:`~phonglab.app.guard.PAGE_SCRIPT`), its static files.
+
+    ``make_app("__www__")`` is built once to learn the trame client's folder
+    and the folders every module the app enables serves. Returns the page's HTML.
+    """
+    www = make_app("__www__").server
+    page_html = guard.inject_page_script((Path(www._www) / "index.html").read_text(encoding="utf-8"))
+
+    async def index(request: web.Request):
+        query = f"?{request.query_string}" if request.query_string else ""
+        raise web.HTTPFound(f"index.html{query}")
+
+    async def page(request: web.Request):
+        return web.Response(text=page_html, content_type="text/html",
+                            headers={"Cache-Control": "no-cache, no-store, must-revalidate"})
+
+    web_app.router.add_get("/", index)
+    web_app.router.add_get("/index.html", page)
+    routes = []
+    for prefix in sorted(www.serve, reverse=True):  # the trame client, then every module the app enables
+        directory = www.serve[prefix]
+        if isinstance(directory, (list, tuple)):
+            directory = directory[0]
+        routes.append(web.static(f"/{prefix}", directory, append_version=True))
+    routes.append(web.static("/", www._www, append_version=True))
+    web_app.add_routes(routes)
+    return page_html
+
+
+def _vtk_web(name: str):
+    """trame-vtk's helper for the trame server ``name`` (None when it has none)."""
+    from trame_vtk.modules import vtk as trame_vtk_module
+
+    return trame_vtk_module.HELPERS_PER_SERVER.get(name)
+
+
+def _slim_vtk_web(name: str) -> None:
+    """One image-encoding thread for the session's vtkWebApplication (it starts one per core).
+
+    The page draws the mesh in the browser (local rendering): no image is
+    ever encoded, and a class of 40 tabs would otherwise hold 40 × cores
+    idle threads.
+    """
+    helper = _vtk_web(name)
+    core = getattr(helper, "_vtk_core", None)
+    if core is not None:
+        core.SetNumberOfEncoderThreads(1)
+
+
+def _release_vtk_web(helper) -> None:
+    """Drop the closed session's vtkWebApplication, so that its threads end now.
+
+    trame-vtk's helper and the session's wslink server refer to each other,
+    and both to the application: without this, it (and its encoding
+    threads) lived until Python's cycle collector came by, and a class's
+    closed tabs left dozens of threads behind.
+    """
+    if helper is None:
+        return
+    root = getattr(helper, "_root_protocol", None)
+    if root is not None:
+        with contextlib.suppress(Exception):
+            root.setSharedObject("app", None)
+    with contextlib.suppress(AttributeError):
+        helper._vtk_core = None
+
+
 async def _first_message(socket: web.WebSocketResponse):
     """The connection's first message, within :data:`HELLO_SECONDS` of the event loop's own time.
 
@@ -138,16 +206,21 @@ class SessionServer:
         when a proxy serves the app under another address).
     secret : str, optional
         The session secret; a random one (``secrets.token_urlsafe``) by default.
+    one_session : bool
+        Stop when the first session closes: a session process behind the
+        launcher (:mod:`phonglab.app.launcher`), which serves one tab.
     """
 
     def __init__(self, make_app: Callable, *, on_session: Callable | None = None,
-                 max_sessions: int = guard.DEFAULT_MAX_SESSIONS, allow_origins=(), secret: str | None = None):
+                 max_sessions: int = guard.DEFAULT_MAX_SESSIONS, allow_origins=(), secret: str | None = None,
+                 one_session: bool = False):
         if max_sessions < 1:
             raise ValueError(f"max_sessions must be at least 1, got {max_sessions}")
         self._make_app = make_app
         self._on_session = on_session
         self._stopped = None
         self.max_sessions = max_sessions
+        self.one_session = one_session
         self.origins = guard.OriginPolicy(allow_origins)
         self.secret = secret or secrets.token_urlsafe(32)
         self.sessions: dict[str, object] = {}
@@ -155,32 +228,12 @@ class SessionServer:
         self._sockets: set = set()
         self._handlers: set = set()  # the WebSocket handlers' tasks, each closing its session when it ends
         self.web_app = web.Application()
-        self.web_app.router.add_get("/", self._index)
-        self.web_app.router.add_get("/index.html", self._page)
         self.web_app.router.add_post("/paraview/", self._launcher)
         self.web_app.router.add_get("/ws", self._websocket)
-        # static files: the trame client, then every module the app enables
-        www = make_app("__www__").server
-        routes = []
-        for prefix in sorted(www.serve, reverse=True):
-            directory = www.serve[prefix]
-            if isinstance(directory, (list, tuple)):
-                directory = directory[0]
-            routes.append(web.static(f"/{prefix}", directory, append_version=True))
-        routes.append(web.static("/", www._www, append_version=True))
-        self.web_app.add_routes(routes)
-        self._page_html = guard.inject_page_script((Path(www._www) / "index.html").read_text(encoding="utf-8"))
+        self._page_html = add_page_routes(self.web_app, make_app)
 
     # ------------------------------------------------------------------
     # HTTP handlers
-
-    async def _index(self, request: web.Request):
-        query = f"?{request.query_string}" if request.query_string else ""
-        raise web.HTTPFound(f"index.html{query}")
-
-    async def _page(self, request: web.Request):
-        return web.Response(text=self._page_html, content_type="text/html",
-                            headers={"Cache-Control": "no-cache, no-store, must-revalidate"})
 
     async def _launcher(self, request: web.Request):
         # the trame client first asks a launcher where its session lives and
@@ -217,6 +270,8 @@ class SessionServer:
                     await self._relay(name, socket)
                 finally:
                     self._admitted -= 1
+                    if self.one_session:
+                        self.stop()
         except protocol.ProtocolError as exc:
             log.warning("session %s from %s: %s; closing", name, request.remote, exc)
             await socket.close(code=aiohttp.WSCloseCode.POLICY_VIOLATION, message=str(exc)[:120].encode())
@@ -255,6 +310,7 @@ class SessionServer:
         try:
             # build this tab's app and start its trame server without a network
             app = self._make_app(name)
+            _slim_vtk_web(name)
             self.sessions[name] = app
             self._notify("open", name)
             task = app.server.start(
@@ -321,12 +377,14 @@ class SessionServer:
             log.exception("closing session %s", name)
         finally:
             session = self.sessions.pop(name, None)
+            web_core = _vtk_web(name)
             closer = getattr(session, "close", None)
             if callable(closer):
                 try:
                     closer()
                 except Exception:
                     log.exception("releasing session %s", name)
+            _release_vtk_web(web_core)
             _release_memory()
             self._notify("close", name)
 

@@ -20,8 +20,10 @@ address or port that cannot be used.
 
 from __future__ import annotations
 
+import argparse
 import errno
 import ipaddress
+import os
 import socket
 import sys
 from pathlib import Path
@@ -58,7 +60,28 @@ def add_parser(subparsers):
                              "CPU, memory and time limits, no file writes, no network where a network namespace can "
                              "be made, and an audit hook refusing files outside its folder, programs, sockets and "
                              "ctypes. Audit hooks are not a security boundary: run the server in a container too")
+    parser.add_argument("--launcher", action="store_true",
+                        help="one phonglab process per browser tab, behind this one address (wslink's launcher): "
+                             "a class uses every core. --max-sessions processes at most, on 127.0.0.1 ports from "
+                             "--session-ports; a tab's process ends when the tab closes or after --idle-timeout")
+    parser.add_argument("--session-ports", type=_port, default=None, metavar="FIRST",
+                        help="with --launcher: the first of --max-sessions ports the session processes use on "
+                             "127.0.0.1 (default 9100)")
+    parser.add_argument("--idle-timeout", type=_idle, default=None, metavar="SECONDS",
+                        help="with --launcher: end a tab's session after this many seconds without a message "
+                             "(default 1800)")
+    parser.add_argument("--one-session", action="store_true", help=argparse.SUPPRESS)
     return parser
+
+
+def _idle(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds from 10 to 86400, got {text!r}") from None
+    if not 10 <= value <= 86400:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds from 10 to 86400, got {text!r}")
+    return value
 
 
 def _origin(text: str) -> str:
@@ -160,10 +183,22 @@ def run(args) -> int:
 
     from phonglab.app import serve
 
+    if (args.session_ports is not None or args.idle_timeout is not None) and not args.launcher:
+        raise UsageError("--session-ports and --idle-timeout go with --launcher")
     try:
-        serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready,
-              allow_origins=args.allow_origin, max_sessions=args.max_sessions,
-              allow_student_code=args.allow_student_code)
+        if args.launcher:
+            _serve_launcher(target, args, ready)
+        else:
+            secret = None
+            if args.one_session:  # a session process behind the launcher: its secret comes in the environment
+                from phonglab.app.launcher import SECRET_ENV
+
+                secret = os.environ.get(SECRET_ENV) or None
+                if secret is None:
+                    raise UsageError(f"--one-session needs the secret in {SECRET_ENV}")
+            serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready,
+                  allow_origins=args.allow_origin, max_sessions=1 if args.one_session else args.max_sessions,
+                  allow_student_code=args.allow_student_code, secret=secret, one_session=args.one_session)
     except socket.gaierror as exc:  # a host name or address that does not resolve
         raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror or exc}") from None
     except OSError as exc:
@@ -171,6 +206,27 @@ def run(args) -> int:
             raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror}") from None
         raise
     return 0
+
+
+def _serve_launcher(target, args, ready) -> None:
+    """``--launcher``: the page and wslink's launcher here, one session process per tab."""
+    import asyncio
+    import logging
+
+    from phonglab.app import launcher, make_app
+
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    first = launcher.FIRST_PORT if args.session_ports is None else args.session_ports
+    if first + args.max_sessions - 1 > 65535:
+        from phonglab.cli import UsageError
+
+        raise UsageError(f"--session-ports: {args.max_sessions} ports from {first} pass 65535")
+    front = launcher.Launcher(
+        make_app(target), max_sessions=args.max_sessions, first_port=first, allow_origins=args.allow_origin,
+        idle=launcher.IDLE_SECONDS if args.idle_timeout is None else args.idle_timeout,
+        command=launcher.session_command(target, allow_student_code=args.allow_student_code,
+                                         export_dir=args.export_dir))
+    asyncio.run(front.run(args.host, args.port, on_ready=ready))
 
 
 def _clean_export_dir(folder) -> list[str]:

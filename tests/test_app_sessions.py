@@ -1,0 +1,147 @@
+"""Sessions come and go without leaving anything behind, a busy server still reads every hello, and a signal stops it.
+
+The footprint and signal tests run ``phonglab serve`` in a process of its
+own and drive it with the simulated students of ``phonglab bench load``
+(:mod:`phonglab.bench.load_student`), which speak the page's own protocol.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import signal
+import threading
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import aiohttp
+import pytest
+from app_support import serving
+from test_app_security import LESSON, Client, run, secret_of
+
+from phonglab.app import server as server_module
+from phonglab.bench import load
+from phonglab.bench.load_student import Student
+from phonglab.bench.ui import log_tail
+
+LESSON_4 = Path(__file__).resolve().parents[1] / "lessons" / "04-specular.md"
+
+
+@pytest.fixture()
+def lessons(tmp_path) -> Path:
+    (tmp_path / "01-sphere.md").write_text(LESSON, encoding="utf-8")
+    return tmp_path
+
+
+def test_closed_sessions_return_their_threads_and_memory(tmp_path):
+    sessions = 4 * load.LEAK_BATCH
+    with serving(LESSON_4, log_path=tmp_path / "serve.log") as served:
+        found = load.session_footprint(served["url"], served["process"].pid, sessions)
+        alive = served["process"].poll() is None
+    print(found)
+    threads, rss = found.grown()
+    assert alive, log_tail(tmp_path / "serve.log")
+    assert threads <= load.LEAK_TOLERANCE and rss <= load.LEAK_TOLERANCE, (
+        f"{found}; allowed +{load.LEAK_TOLERANCE:.0%} each\n{log_tail(tmp_path / 'serve.log')}")
+
+
+# ---------------------------------------------------------------------------
+# a hello that arrives while the event loop is busy building another session
+
+
+@pytest.fixture()
+def slow_builds(lessons, monkeypatch):
+    """A SessionServer whose session builds hold the event loop for twice the hello's time.
+
+    ``building`` is set while a build holds the loop, so a test can send a
+    hello exactly then.
+    """
+    from phonglab.app import make_app
+
+    monkeypatch.setattr(server_module, "HELLO_SECONDS", 1.0)
+    real = make_app(lessons)
+    building = threading.Event()
+
+    def build(name):
+        app = real(name)
+        if name != "__www__":
+            building.set()
+            time.sleep(2 * server_module.HELLO_SECONDS)  # the cost of building a large session, in the loop
+            building.clear()
+        return app
+
+    opened = []
+    server = server_module.SessionServer(build, on_session=lambda event, name: opened.append(event))
+    started = threading.Event()
+    where = {}
+
+    def ready(port):
+        where["port"], where["loop"] = port, asyncio.get_running_loop()
+        started.set()
+
+    thread = threading.Thread(target=lambda: asyncio.run(server.run("127.0.0.1", 0, on_ready=ready)), daemon=True)
+    thread.start()
+    assert started.wait(120), "the session server did not start"
+    yield SimpleNamespace(port=where["port"], building=building, opened=opened)
+    where["loop"].call_soon_threadsafe(server.stop)
+    thread.join(30)
+
+
+def test_a_hello_sent_while_another_session_is_built_is_read(slow_builds):
+    async def attempt():
+        secret = await secret_of(slow_builds.port)
+        first, second, third = Client(slow_builds.port), Client(slow_builds.port), Client(slow_builds.port)
+        for client in (first, second, third):
+            await client.__aenter__()
+        try:
+            hello = asyncio.ensure_future(first.hello(secret))
+            for _ in range(600):  # until the first session's build holds the server's loop
+                if slow_builds.building.is_set():
+                    break
+                await asyncio.sleep(0.05)
+            assert slow_builds.building.is_set(), "the first session was never built"
+            answers = await asyncio.gather(hello, second.hello(secret), third.hello(secret))
+            return answers, [c.ws.close_code for c in (first, second, third)]
+        finally:
+            for client in (first, second, third):
+                await client.__aexit__()
+
+    answers, codes = run(attempt())
+    assert all(a and "result" in a for a in answers), (answers, codes)
+    assert codes == [None, None, None], codes
+
+
+# ---------------------------------------------------------------------------
+# stopping
+
+
+#: a generous bound for a stop, far above the 2 s aimed at, so the test does not flake under load
+STOP_BOUND = 30.0
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
+def test_a_signal_stops_the_server_and_closes_its_sessions(lessons, tmp_path, signum):
+    with serving(lessons, log_path=tmp_path / "serve.log") as served:
+        process = served["process"]
+
+        async def stop():
+            students = [Student(served["url"], seed=i) for i in range(2)]
+            await asyncio.gather(*(s.open() for s in students))
+            try:
+                await asyncio.gather(*(s.act() for s in students))
+                sent = time.monotonic()
+                process.send_signal(signum)
+                while process.poll() is None and time.monotonic() - sent < STOP_BOUND:
+                    await asyncio.sleep(0.02)
+                took = time.monotonic() - sent
+                for s in students:  # the server closed each socket: wait for the close to reach the client
+                    await asyncio.wait_for(s.closed.wait(), 10)
+                return took, [s._ws.close_code for s in students]
+            finally:
+                await asyncio.gather(*(s.close() for s in students))
+
+        took, codes = run(stop())
+        print(f"{signal.Signals(signum).name} with two sessions open: the server exited after {took:.2f} s")
+        assert process.returncode == 0, (process.returncode, log_tail(tmp_path / "serve.log"))
+        assert codes == [aiohttp.WSCloseCode.GOING_AWAY] * 2, (codes, log_tail(tmp_path / "serve.log"))
+        assert "Traceback" not in log_tail(tmp_path / "serve.log", 200), log_tail(tmp_path / "serve.log", 200)
