@@ -46,7 +46,7 @@ def make_app(target, *, export_dir=None, allow_student_code=False):
 
 def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None, on_ready=None,
           allow_origins=(), max_sessions: int | None = None, allow_student_code=False, secret: str | None = None,
-          one_session: bool = False) -> None:
+          one_session: bool = False, url_prefix: str = "/") -> None:
     """Serve the lessons at ``target`` until interrupted.
 
     Parameters
@@ -67,6 +67,8 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None,
         The session secret (a random one by default).
     one_session : bool
         Serve one tab, and stop when it closes (a session process behind the launcher).
+    url_prefix : str
+        The path a proxy serves the page under (``/user/ana/phonglab/``); ``/`` by default.
     """
     from phonglab.app import accuracy_panel
     from phonglab.app.server import SessionServer
@@ -75,7 +77,8 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None,
     try:
         limits = {} if max_sessions is None else {"max_sessions": max_sessions}
         build = make_app(target, export_dir=export_dir, allow_student_code=allow_student_code)
-        server = SessionServer(build, allow_origins=allow_origins, secret=secret, one_session=one_session, **limits)
+        server = SessionServer(build, allow_origins=allow_origins, secret=secret, one_session=one_session,
+                               url_prefix=url_prefix, **limits)
         asyncio.run(server.run(host, port, on_ready=on_ready))
     finally:
         # the worker processes (exports, the accuracy lesson), if any were started

@@ -47,7 +47,7 @@ from aiohttp import web
 from wslink import launcher as wslink_launcher
 
 from phonglab.app import guard, protocol
-from phonglab.app.server import FULL_MESSAGE, STOP_SECONDS, add_page_routes
+from phonglab.app.server import FULL_MESSAGE, STOP_SECONDS, add_page_routes, normal_prefix
 
 log = logging.getLogger(__name__)
 
@@ -136,14 +136,17 @@ class Launcher:
         Seconds without a message from a tab before its session ends.
     on_session : callable, optional
         Called with ``(event, session id, pid)`` for ``"start"`` and ``"stop"`` (tests, logging).
+    url_prefix : str
+        The path a proxy serves the page under (see :class:`~phonglab.app.server.SessionServer`).
     """
 
     def __init__(self, make_app: Callable, *, command: list[str], max_sessions: int = guard.DEFAULT_MAX_SESSIONS,
                  first_port: int = FIRST_PORT, allow_origins=(), idle: float = IDLE_SECONDS,
-                 on_session: Callable | None = None):
+                 on_session: Callable | None = None, url_prefix: str = "/"):
         self.origins = guard.OriginPolicy(allow_origins)
         self.max_sessions = max_sessions
         self.idle = idle
+        self.url_prefix = normal_prefix(url_prefix)
         self._on_session = on_session
         self._log_dir = tempfile.mkdtemp(prefix="phonglab-launcher-")
         self.config = launcher_config(command=command, first_port=first_port, sessions=max_sessions,
@@ -192,7 +195,7 @@ class Launcher:
             await asyncio.sleep(0.05)
         asyncio.get_running_loop().call_later(CONNECT_SECONDS, self._end_unconnected, session["id"])
         scheme = "wss" if request.headers["Origin"].lower().startswith("https:") else "ws"
-        return web.json_response({"sessionURL": f"{scheme}://USE_HOST/proxy?sessionId={session['id']}",
+        return web.json_response({"sessionURL": f"{scheme}://USE_HOST{self.url_prefix}proxy?sessionId={session['id']}",
                                   "secret": session["secret"]}, headers={"Cache-Control": "no-store"})
 
     def _log_tail(self, session_id: str) -> str:

@@ -77,6 +77,22 @@ def _malloc_trim():
         return None
 
 
+def normal_prefix(prefix: str) -> str:
+    """A URL path prefix as ``/a/b/``: one slash at each end.
+
+    Raises
+    ------
+    ValueError
+        For anything but a plain path (letters, digits, ``-._~/@``).
+    """
+    import re
+
+    if not isinstance(prefix, str) or not re.fullmatch(r"[A-Za-z0-9\-._~/@]{0,400}", prefix) or "//" in prefix.strip("/"):
+        raise ValueError(f"url prefix must be a path like /user/ana/phonglab/, got {prefix!r}")
+    inner = prefix.strip("/")
+    return f"/{inner}/" if inner else "/"
+
+
 def add_page_routes(web_app: web.Application, make_app: Callable) -> str:
     """Serve the page on ``web_app``: ``/`` and ``/index.html`` (with :data:`~phonglab.app.guard.PAGE_SCRIPT`), its static files.
 
@@ -209,11 +225,15 @@ class SessionServer:
     one_session : bool
         Stop when the first session closes: a session process behind the
         launcher (:mod:`phonglab.app.launcher`), which serves one tab.
+    url_prefix : str
+        The path a proxy serves the page under (``/user/ana/phonglab/``
+        behind JupyterHub's jupyter-server-proxy): the WebSocket address the
+        launcher hands out starts with it. ``/`` when the page is served at the root.
     """
 
     def __init__(self, make_app: Callable, *, on_session: Callable | None = None,
                  max_sessions: int = guard.DEFAULT_MAX_SESSIONS, allow_origins=(), secret: str | None = None,
-                 one_session: bool = False):
+                 one_session: bool = False, url_prefix: str = "/"):
         if max_sessions < 1:
             raise ValueError(f"max_sessions must be at least 1, got {max_sessions}")
         self._make_app = make_app
@@ -221,6 +241,7 @@ class SessionServer:
         self._stopped = None
         self.max_sessions = max_sessions
         self.one_session = one_session
+        self.url_prefix = normal_prefix(url_prefix)
         self.origins = guard.OriginPolicy(allow_origins)
         self.secret = secret or secrets.token_urlsafe(32)
         self.sessions: dict[str, object] = {}
@@ -242,7 +263,7 @@ class SessionServer:
         # from the request is echoed back
         self._check_origin(request)
         scheme = "wss" if request.headers["Origin"].lower().startswith("https:") else "ws"
-        return web.json_response({"sessionURL": f"{scheme}://USE_HOST/ws", "secret": self.secret},
+        return web.json_response({"sessionURL": f"{scheme}://USE_HOST{self.url_prefix}ws", "secret": self.secret},
                                  headers={"Cache-Control": "no-store"})
 
     def _check_origin(self, request: web.Request) -> None:

@@ -70,8 +70,20 @@ def add_parser(subparsers):
     parser.add_argument("--idle-timeout", type=_idle, default=None, metavar="SECONDS",
                         help="with --launcher: end a tab's session after this many seconds without a message "
                              "(default 1800)")
+    parser.add_argument("--url-prefix", type=_prefix, default="/", metavar="PATH",
+                        help="the path a proxy serves the app under (e.g. /user/ana/phonglab/ behind JupyterHub's "
+                             "jupyter-server-proxy): the page's WebSocket address starts with it (default /)")
     parser.add_argument("--one-session", action="store_true", help=argparse.SUPPRESS)
     return parser
+
+
+def _prefix(text: str) -> str:
+    from phonglab.app.server import normal_prefix
+
+    try:
+        return normal_prefix(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def _idle(text: str) -> float:
@@ -198,7 +210,8 @@ def run(args) -> int:
                     raise UsageError(f"--one-session needs the secret in {SECRET_ENV}")
             serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready,
                   allow_origins=args.allow_origin, max_sessions=1 if args.one_session else args.max_sessions,
-                  allow_student_code=args.allow_student_code, secret=secret, one_session=args.one_session)
+                  allow_student_code=args.allow_student_code, secret=secret, one_session=args.one_session,
+                  url_prefix=args.url_prefix)
     except socket.gaierror as exc:  # a host name or address that does not resolve
         raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror or exc}") from None
     except OSError as exc:
@@ -223,7 +236,7 @@ def _serve_launcher(target, args, ready) -> None:
         raise UsageError(f"--session-ports: {args.max_sessions} ports from {first} pass 65535")
     front = launcher.Launcher(
         make_app(target), max_sessions=args.max_sessions, first_port=first, allow_origins=args.allow_origin,
-        idle=launcher.IDLE_SECONDS if args.idle_timeout is None else args.idle_timeout,
+        idle=launcher.IDLE_SECONDS if args.idle_timeout is None else args.idle_timeout, url_prefix=args.url_prefix,
         command=launcher.session_command(target, allow_student_code=args.allow_student_code,
                                          export_dir=args.export_dir))
     asyncio.run(front.run(args.host, args.port, on_ready=ready))
