@@ -100,10 +100,6 @@ class _Processes(wslink_launcher.ProcessManager):
         self.processes[session["id"]] = process
         return process
 
-    def stopProcess(self, id):  # noqa: N802,A002 (wslink's names)
-        process = self.processes.pop(id, None)
-        if process is not None:
-            _stop(process)
 
 
 def _stop(process: subprocess.Popen) -> None:
@@ -155,7 +151,8 @@ class Launcher:
         self.sessions = wslink_launcher.SessionManager(self.config, mapping)
         self.processes = _Processes(self.config)
         self._connected: set[str] = set()
-        self._ending: set = set()  # sessions being ended in a thread (their process stopping)
+        self._ending: set = set()  # tasks ending sessions no tab connected to
+        self._stopping: set[str] = set()  # sessions whose process is being stopped
         self._sockets: set = set()
         self._stopped = None
         self.web_app = web.Application()
@@ -174,7 +171,7 @@ class Launcher:
 
     async def _launch(self, request: web.Request):
         self._check_origin(request)
-        self._reap()
+        await self._reap()
         # nothing from the request reaches the command line: the options are the launcher's own
         session = self.sessions.createSession({"application": "phonglab", "secret": secrets.token_urlsafe(32)})
         if session is None:
@@ -190,7 +187,7 @@ class Launcher:
         while not self.processes.isReady(session, 0) or not self.processes.isRunning(session["id"]):
             if not self.processes.isRunning(session["id"]) or time.monotonic() - started > START_SECONDS:
                 log.error("session process %s did not start:\n%s", session["id"], self._log_tail(session["id"]))
-                self._end(session["id"])
+                await self._end(session["id"])
                 return web.json_response({"error": "The session could not be started."}, status=503)
             await asyncio.sleep(0.05)
         asyncio.get_running_loop().call_later(CONNECT_SECONDS, self._end_unconnected, session["id"])
@@ -207,24 +204,34 @@ class Launcher:
     def _end_unconnected(self, session_id: str) -> None:
         if session_id not in self._connected and self.sessions.getSession(session_id) is not None:
             log.warning("session %s: no tab connected within %s s; ending it", session_id, CONNECT_SECONDS)
-            self._ending.add(asyncio.ensure_future(asyncio.to_thread(self._end, session_id)))
+            self._ending.add(asyncio.ensure_future(self._end(session_id)))
 
-    def _end(self, session_id: str) -> None:
-        """Stop a session's process and give its port back."""
-        process = self.processes.processes.get(session_id)
-        if self.sessions.getSession(session_id) is not None:
-            self.sessions.deleteSession(session_id)
-        self.processes.stopProcess(session_id)
-        self._connected.discard(session_id)
-        if process is not None:
-            self._notify("stop", session_id, process.pid)
-        with contextlib.suppress(OSError):
-            self.processes._getLogFilePath(session_id).unlink()
+    async def _end(self, session_id: str) -> None:
+        """Stop a session's process (in a thread: it may take a second), then give its port back.
 
-    def _reap(self) -> None:
+        Only the event loop's thread changes the session and port books, and a
+        port is handed out again only once its process has exited.
+        """
+        if session_id in self._stopping:
+            return
+        self._stopping.add(session_id)
+        process = self.processes.processes.pop(session_id, None)
+        try:
+            if process is not None:
+                await asyncio.to_thread(_stop, process)
+                self._notify("stop", session_id, process.pid)
+        finally:
+            if self.sessions.getSession(session_id) is not None:
+                self.sessions.deleteSession(session_id)
+            self._connected.discard(session_id)
+            self._stopping.discard(session_id)
+            with contextlib.suppress(OSError):
+                self.processes._getLogFilePath(session_id).unlink()
+
+    async def _reap(self) -> None:
         """Give back the ports of processes that ended by themselves (their tab closed)."""
         for session_id in self.processes.listEndedProcess():
-            self._end(session_id)
+            await self._end(session_id)
 
     def _notify(self, event: str, session_id: str, pid: int) -> None:
         if self._on_session is not None:
@@ -256,7 +263,7 @@ class Launcher:
             self._sockets.discard(socket)
             if not socket.closed:
                 await socket.close()
-            await asyncio.to_thread(self._end, session_id)
+            await self._end(session_id)
         return socket
 
     async def _join(self, browser: web.WebSocketResponse, upstream) -> None:
@@ -273,14 +280,20 @@ class Launcher:
             await upstream.close()
 
         async def down():
-            async for message in upstream:
+            closing = (aiohttp.WSMsgType.CLOSE, aiohttp.WSMsgType.CLOSING, aiohttp.WSMsgType.CLOSED,
+                       aiohttp.WSMsgType.ERROR)
+            while True:
+                message = await upstream.receive()
+                if message.type in closing:
+                    break
                 if message.type == aiohttp.WSMsgType.BINARY:
                     await browser.send_bytes(message.data)
                 elif message.type == aiohttp.WSMsgType.TEXT:
                     await browser.send_str(message.data)
-            code = upstream.close_code or aiohttp.WSCloseCode.GOING_AWAY
-            reason = upstream.close_message if isinstance(upstream.close_message, (bytes, str)) else b""
-            await browser.close(code=code, message=reason.encode() if isinstance(reason, str) else reason)
+            # the session's own close (1008 refused, 1013 full, 1001 stopping) reaches the page with its reason
+            reason = message.extra if message.type == aiohttp.WSMsgType.CLOSE and isinstance(message.extra, str) else ""
+            await browser.close(code=upstream.close_code or aiohttp.WSCloseCode.GOING_AWAY,
+                                message=reason.encode()[:120])
 
         async def idle():
             while True:
@@ -320,17 +333,16 @@ class Launcher:
         finally:
             await asyncio.gather(*(s.close(code=aiohttp.WSCloseCode.GOING_AWAY, message=b"server stopping")
                                    for s in list(self._sockets)), return_exceptions=True)
-            await asyncio.to_thread(self._end_all)
+            await self._end_all()
             await runner.cleanup()
             shutil.rmtree(self._log_dir, ignore_errors=True)
 
-    def _end_all(self) -> None:
-        processes = list(self.processes.processes.values())
-        for process in processes:  # all at once: each closes its tab and exits
+    async def _end_all(self) -> None:
+        for process in list(self.processes.processes.values()):  # all at once: each closes its tab and exits
             with contextlib.suppress(ProcessLookupError):
                 process.send_signal(signal.SIGTERM)
-        for session_id in list(self.processes.processes):
-            self._end(session_id)
+        await asyncio.gather(*(self._end(session_id) for session_id in list(self.processes.processes)),
+                             *self._ending, return_exceptions=True)
 
     def stop(self) -> None:
         """Ask :meth:`run` to return."""
