@@ -123,6 +123,35 @@ def add_page_routes(web_app: web.Application, make_app: Callable) -> str:
     return page_html
 
 
+def _on_stop_signals(loop, stop: Callable, mark: Callable) -> Callable:
+    """Make SIGINT and SIGTERM call ``mark()`` at once and ``stop()`` in ``loop``; returns what undoes it.
+
+    The loop's own signal handlers run only when the loop gets its turn, and
+    while tabs open, each session's build holds it for about a second: a
+    class opening the lesson kept the server deaf to Ctrl-C for seconds. A
+    Python signal handler runs between two bytecodes instead, so the builds
+    still waiting are skipped (``mark``) and the stop follows the one in
+    progress. Outside the main thread the loop's handlers are used.
+    """
+    def handler(signum, frame):
+        mark()
+        loop.call_soon_threadsafe(stop)
+
+    try:
+        previous = {signum: signal.signal(signum, handler) for signum in (signal.SIGINT, signal.SIGTERM)}
+    except ValueError:  # not the main thread
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            with contextlib.suppress(NotImplementedError, RuntimeError):
+                loop.add_signal_handler(signum, stop)
+        return lambda: None
+
+    def restore():
+        for signum, old in previous.items():
+            signal.signal(signum, old)
+
+    return restore
+
+
 def _vtk_web(name: str):
     """trame-vtk's helper for the trame server ``name`` (None when it has none)."""
     from trame_vtk.modules import vtk as trame_vtk_module
@@ -239,6 +268,7 @@ class SessionServer:
         self._make_app = make_app
         self._on_session = on_session
         self._stopped = None
+        self._stopping = False  # set at once by a stop signal, even while a session's build holds the loop
         self.max_sessions = max_sessions
         self.one_session = one_session
         self.url_prefix = normal_prefix(url_prefix)
@@ -329,6 +359,8 @@ class SessionServer:
         """Build this tab's app and relay its messages both ways until the socket closes."""
         app = task = connection = None
         try:
+            if self._stopping:
+                return  # stopping: a session admitted meanwhile is not built (a build holds the loop a second)
             # build this tab's app and start its trame server without a network
             app = self._make_app(name)
             _slim_vtk_web(name)
@@ -387,6 +419,8 @@ class SessionServer:
             await self._close_session(name, app, task, connection)
 
     async def _close_session(self, name, app, task, connection) -> None:
+        if app is None:
+            return  # never built (the server was stopping)
         try:
             if connection is not None:
                 await connection.close()
@@ -428,10 +462,7 @@ class SessionServer:
         """
         loop = asyncio.get_running_loop()
         self._stopped = loop.create_future()
-        # Ctrl-C and SIGTERM end the run normally (aiohttp's own handlers would exit with status 1)
-        for signum in (signal.SIGINT, signal.SIGTERM):
-            with contextlib.suppress(NotImplementedError, RuntimeError):
-                loop.add_signal_handler(signum, self.stop)
+        restore = _on_stop_signals(loop, self.stop, self._mark_stopping)
         runner = web.AppRunner(self.web_app, handle_signals=False, access_log=None, shutdown_timeout=STOP_SECONDS)
         await runner.setup()
         try:
@@ -444,6 +475,7 @@ class SessionServer:
         finally:
             await self._close_all()
             await runner.cleanup()
+            restore()
 
     async def _close_all(self) -> None:
         """Close every tab's socket (code 1001, going away) and wait for their sessions to close.
@@ -461,7 +493,11 @@ class SessionServer:
         if handlers:
             await asyncio.wait(handlers, timeout=2 * STOP_SECONDS)
 
+    def _mark_stopping(self) -> None:
+        self._stopping = True
+
     def stop(self) -> None:
         """Ask :meth:`run` to return."""
+        self._stopping = True
         if self._stopped is not None and not self._stopped.done():
             self._stopped.set_result(True)
