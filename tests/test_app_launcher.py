@@ -135,7 +135,7 @@ def test_a_foreign_origin_is_refused_at_the_launcher_and_the_proxy(launcher, ori
             async with http.post(launcher.url + "paraview/", json={}, headers=headers) as answer:
                 launched = answer.status
             with pytest.raises(aiohttp.WSServerHandshakeError) as refused:
-                await http.ws_connect(launcher.url + "proxy?sessionId=x", headers=headers)
+                await http.ws_connect(launcher.url + "proxy/x", headers=headers)
             return launched, refused.value.status
 
     assert run(attempt()) == (403, 403), origin
@@ -210,7 +210,7 @@ def test_an_unknown_session_id_is_refused(launcher):
     async def attempt():
         async with aiohttp.ClientSession() as http:
             with pytest.raises(aiohttp.WSServerHandshakeError) as refused:
-                await http.ws_connect(launcher.url + "proxy?sessionId=nope",
+                await http.ws_connect(launcher.url + "proxy/nope",
                                       headers={"Origin": f"http://127.0.0.1:{launcher.port}"})
             return refused.value.status
 

@@ -12,9 +12,9 @@ gets a process of its own and a class spreads over all the machine's cores:
    the front takes a port from the range, starts ``phonglab serve LESSON
    --port P`` for one session on 127.0.0.1 with a fresh secret (handed over
    in the environment, not on the command line), waits for its ready line,
-   and answers ``sessionURL = ws(s)://USE_HOST/proxy?sessionId=ID`` and the
+   and answers ``sessionURL = ws(s)://USE_HOST/proxy/ID`` and the
    secret;
-2. the page's WebSocket ``/proxy?sessionId=ID`` (its own origin only) is
+2. the page's WebSocket ``/proxy/ID`` (its own origin only) is
    joined to that process's ``/ws``; the process checks the hello's secret,
    every message's size, method and arguments and the pace, exactly as a
    single server does;
@@ -75,7 +75,7 @@ def launcher_config(*, command: list[str], first_port: int, sessions: int, log_d
         "configuration": {
             "host": "127.0.0.1", "port": 0, "endpoint": "paraview", "log_dir": log_dir,
             "proxy_file": str(Path(log_dir) / "proxy-mapping.txt"),
-            "sessionURL": "ws://USE_HOST/proxy?sessionId=${id}",
+            "sessionURL": "ws://USE_HOST/proxy/${id}",
             "timeout": timeout, "fields": [], "sanitize": {},
         },
         "resources": [{"host": "127.0.0.1", "port_range": [first_port, first_port + sessions - 1]}],
@@ -157,7 +157,7 @@ class Launcher:
         self._stopped = None
         self.web_app = web.Application()
         self.web_app.router.add_post("/paraview/", self._launch)
-        self.web_app.router.add_get("/proxy", self._proxy)
+        self.web_app.router.add_get("/proxy/{session}", self._proxy)
         add_page_routes(self.web_app, make_app)
 
     # ------------------------------------------------------------------
@@ -192,7 +192,7 @@ class Launcher:
             await asyncio.sleep(0.05)
         asyncio.get_running_loop().call_later(CONNECT_SECONDS, self._end_unconnected, session["id"])
         scheme = "wss" if request.headers["Origin"].lower().startswith("https:") else "ws"
-        return web.json_response({"sessionURL": f"{scheme}://USE_HOST{self.url_prefix}proxy?sessionId={session['id']}",
+        return web.json_response({"sessionURL": f"{scheme}://USE_HOST{self.url_prefix}proxy/{session['id']}",
                                   "secret": session["secret"]}, headers={"Cache-Control": "no-store"})
 
     def _log_tail(self, session_id: str) -> str:
@@ -242,7 +242,7 @@ class Launcher:
 
     async def _proxy(self, request: web.Request):
         self._check_origin(request)
-        session_id = request.query.get("sessionId", "")
+        session_id = request.match_info["session"]
         session = self.sessions.getSession(session_id)
         if session is None or session_id in self._connected:
             raise web.HTTPNotFound(text="no such session\n")
