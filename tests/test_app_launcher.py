@@ -44,16 +44,26 @@ def free_range(count: int) -> int:
     raise RuntimeError("no free port range")
 
 
-@pytest.fixture(scope="module")
-def launcher(tmp_path_factory):
+def _launcher(tmp_path_factory, *flags):
     folder = tmp_path_factory.mktemp("lessons")
     (folder / "01-sphere.md").write_text(LESSON, encoding="utf-8")
     log_path = tmp_path_factory.mktemp("launcher") / "serve.log"
     first = free_range(MAX_SESSIONS)
     with serving(folder, "--launcher", "--max-sessions", str(MAX_SESSIONS), "--session-ports", str(first),
-                 "--idle-timeout", str(IDLE_SECONDS), log_path=log_path, timeout=120) as served:
+                 *flags, log_path=log_path, timeout=120) as served:
         yield SimpleNamespace(url=served["url"], port=served["port"], process=served["process"], log=log_path,
                               first=first)
+
+
+@pytest.fixture(scope="module")
+def launcher(tmp_path_factory):
+    yield from _launcher(tmp_path_factory)
+
+
+@pytest.fixture(scope="module")
+def idle_launcher(tmp_path_factory):
+    """A launcher that ends a tab's session after IDLE_SECONDS without a message."""
+    yield from _launcher(tmp_path_factory, "--idle-timeout", str(IDLE_SECONDS))
 
 
 @pytest.fixture(autouse=True)
@@ -188,7 +198,9 @@ def test_an_oversized_message_through_the_launcher_closes_the_socket(launcher):
     assert run(attempt()) == aiohttp.WSCloseCode.POLICY_VIOLATION
 
 
-def test_an_idle_tab_is_closed_and_its_process_ended(launcher):
+def test_an_idle_tab_is_closed_and_its_process_ended(idle_launcher):
+    launcher = idle_launcher
+
     async def attempt():
         student = Student(launcher.url, seed=9)
         await student.open()

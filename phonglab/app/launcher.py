@@ -47,7 +47,7 @@ from aiohttp import web
 from wslink import launcher as wslink_launcher
 
 from phonglab.app import guard, protocol
-from phonglab.app.server import FULL_MESSAGE, STOP_SECONDS, add_page_routes, normal_prefix
+from phonglab.app.server import FULL_MESSAGE, STOP_SECONDS, add_page_routes, listen, normal_prefix, on_stop_signals
 
 log = logging.getLogger(__name__)
 
@@ -317,25 +317,19 @@ class Launcher:
         """Listen until :meth:`stop`, SIGINT or SIGTERM; then end every session process."""
         loop = asyncio.get_running_loop()
         self._stopped = loop.create_future()
-        for signum in (signal.SIGINT, signal.SIGTERM):
-            with contextlib.suppress(NotImplementedError, RuntimeError):
-                loop.add_signal_handler(signum, self.stop)
+        restore = on_stop_signals(loop, self.stop, lambda: None)
         (Path(self._log_dir) / "launcher.json").write_text(_json(self.config), encoding="utf-8")
-        runner = web.AppRunner(self.web_app, handle_signals=False, access_log=None, shutdown_timeout=STOP_SECONDS)
-        await runner.setup()
         try:
-            site = web.TCPSite(runner, host, port)
-            await site.start()
-            bound = site._server.sockets[0].getsockname()[1] if site._server and site._server.sockets else port
-            if on_ready is not None:
-                on_ready(bound)
-            await self._stopped
+            await listen(self.web_app, host, port, on_ready, self._stopped, self._close_all)
         finally:
-            await asyncio.gather(*(s.close(code=aiohttp.WSCloseCode.GOING_AWAY, message=b"server stopping")
-                                   for s in list(self._sockets)), return_exceptions=True)
-            await self._end_all()
-            await runner.cleanup()
+            restore()
             shutil.rmtree(self._log_dir, ignore_errors=True)
+
+    async def _close_all(self) -> None:
+        """Close every tab's socket (code 1001), then end every session process."""
+        await asyncio.gather(*(s.close(code=aiohttp.WSCloseCode.GOING_AWAY, message=b"server stopping")
+                               for s in list(self._sockets)), return_exceptions=True)
+        await self._end_all()
 
     async def _end_all(self) -> None:
         for process in list(self.processes.processes.values()):  # all at once: each closes its tab and exits

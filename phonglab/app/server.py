@@ -31,6 +31,7 @@ import ctypes
 import ctypes.util
 import functools
 import logging
+import re
 import secrets
 import signal
 import uuid
@@ -85,8 +86,6 @@ def normal_prefix(prefix: str) -> str:
     ValueError
         For anything but a plain path (letters, digits, ``-._~/@``).
     """
-    import re
-
     if not isinstance(prefix, str) or not re.fullmatch(r"[A-Za-z0-9\-._~/@]{0,400}", prefix) or "//" in prefix.strip("/"):
         raise ValueError(f"url prefix must be a path like /user/ana/phonglab/, got {prefix!r}")
     inner = prefix.strip("/")
@@ -123,7 +122,28 @@ def add_page_routes(web_app: web.Application, make_app: Callable) -> str:
     return page_html
 
 
-def _on_stop_signals(loop, stop: Callable, mark: Callable) -> Callable:
+async def listen(web_app: web.Application, host: str, port: int, on_ready, stopped, closing) -> None:
+    """Serve ``web_app`` on ``host:port`` until the future ``stopped`` is done; then ``await closing()`` and shut down.
+
+    ``on_ready(port)`` is called with the bound port once connections are
+    accepted. Handlers still running after ``closing`` are cancelled
+    :data:`STOP_SECONDS` later.
+    """
+    runner = web.AppRunner(web_app, handle_signals=False, access_log=None, shutdown_timeout=STOP_SECONDS)
+    await runner.setup()
+    try:
+        site = web.TCPSite(runner, host, port)
+        await site.start()
+        bound = site._server.sockets[0].getsockname()[1] if site._server and site._server.sockets else port
+        if on_ready is not None:
+            on_ready(bound)
+        await stopped
+    finally:
+        await closing()
+        await runner.cleanup()
+
+
+def on_stop_signals(loop, stop: Callable, mark: Callable) -> Callable:
     """Make SIGINT and SIGTERM call ``mark()`` at once and ``stop()`` in ``loop``; returns what undoes it.
 
     The loop's own signal handlers run only when the loop gets its turn, and
@@ -462,19 +482,10 @@ class SessionServer:
         """
         loop = asyncio.get_running_loop()
         self._stopped = loop.create_future()
-        restore = _on_stop_signals(loop, self.stop, self._mark_stopping)
-        runner = web.AppRunner(self.web_app, handle_signals=False, access_log=None, shutdown_timeout=STOP_SECONDS)
-        await runner.setup()
+        restore = on_stop_signals(loop, self.stop, self._mark_stopping)
         try:
-            site = web.TCPSite(runner, host, port)
-            await site.start()
-            bound = site._server.sockets[0].getsockname()[1] if site._server and site._server.sockets else port
-            if on_ready is not None:
-                on_ready(bound)
-            await self._stopped
+            await listen(self.web_app, host, port, on_ready, self._stopped, self._close_all)
         finally:
-            await self._close_all()
-            await runner.cleanup()
             restore()
 
     async def _close_all(self) -> None:

@@ -34,8 +34,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from phonglab.bench import load_server
-from phonglab.bench.load_student import Student, StudentError
-from phonglab.bench.usage import UsageError
+from phonglab.bench.load_student import Student
+from phonglab.bench.usage import UsageError, bounded
 
 HELP = "simulated students over WebSockets: latency, updates/s and capacity of one server and of the launcher"
 
@@ -73,28 +73,8 @@ def add_arguments(parser) -> None:
                         help="open and close N sessions and print the server's threads and memory before and after")
 
 
-def _positive_int(text: str) -> int:
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number of at least 1, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a whole number of at least 1, got {value}")
-    return value
-
-
-def _positive_float(text: str) -> float:
-    import argparse
-
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number above 0, got {text!r}") from None
-    if not 0 < value < 1e6:
-        raise argparse.ArgumentTypeError(f"must be a number above 0, got {text!r}")
-    return value
+_positive_int = bounded(int, 1, None, "a whole number of at least 1")
+_positive_float = bounded(float, 1e-6, 1e6, "a number above 0")
 
 
 # ---------------------------------------------------------------------------

@@ -28,6 +28,8 @@ import socket
 import sys
 from pathlib import Path
 
+from phonglab.bench.usage import bounded
+
 #: where lessons live when no LESSON is given: ./lessons, else the source tree's
 DEFAULT_FOLDER = "lessons"
 
@@ -77,6 +79,11 @@ def add_parser(subparsers):
     return parser
 
 
+_max_sessions = bounded(int, 1, None, "a whole number of at least 1")
+_port = bounded(int, 0, 65535, "a whole number from 0 to 65535")
+_idle = bounded(float, 10, 86400, "a number of seconds from 10 to 86400")
+
+
 def _prefix(text: str) -> str:
     from phonglab.app.server import normal_prefix
 
@@ -84,16 +91,6 @@ def _prefix(text: str) -> str:
         return normal_prefix(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def _idle(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number of seconds from 10 to 86400, got {text!r}") from None
-    if not 10 <= value <= 86400:
-        raise argparse.ArgumentTypeError(f"must be a number of seconds from 10 to 86400, got {text!r}")
-    return value
 
 
 def _origin(text: str) -> str:
@@ -105,30 +102,6 @@ def _origin(text: str) -> str:
         return normal_origin(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def _max_sessions(text: str) -> int:
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number of at least 1, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a whole number of at least 1, got {value}")
-    return value
-
-
-def _port(text: str) -> int:
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to 65535, got {text!r}") from None
-    if not 0 <= value <= 65535:
-        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to 65535, got {value}")
-    return value
 
 
 def default_folder() -> Path:
