@@ -23,6 +23,7 @@ class Footprint:
     rss_mb: float
     threads: int
     processes: int
+    pss_mb: float = float("nan")  #: proportional memory: pages shared between the processes counted once
 
 
 def _stat(pid: int):
@@ -52,9 +53,19 @@ def tree(pid: int) -> list[int]:
     return found
 
 
-def footprint(pid: int) -> Footprint:
-    """The footprint of ``pid``'s process tree now."""
-    cpu, rss, threads = {}, 0, 0
+def _pss_kb(pid: int) -> float:
+    try:
+        for line in Path(f"/proc/{pid}/smaps_rollup").read_text().splitlines():
+            if line.startswith("Pss:"):
+                return float(line.split()[1])
+    except (OSError, ValueError, IndexError):
+        pass
+    return float("nan")
+
+
+def footprint(pid: int, *, pss: bool = False) -> Footprint:
+    """The footprint of ``pid``'s process tree now (with ``pss``, its proportional memory too)."""
+    cpu, rss, threads, pss_kb = {}, 0, 0, 0.0
     for member in tree(pid):
         info = _stat(member)
         if info is None:
@@ -62,7 +73,10 @@ def footprint(pid: int) -> Footprint:
         cpu[member] = info["cpu"]
         rss += info["rss"]
         threads += info["threads"]
-    return Footprint(cpu=cpu, rss_mb=rss / 2**20, threads=threads, processes=len(cpu))
+        if pss:
+            pss_kb += _pss_kb(member)
+    return Footprint(cpu=cpu, rss_mb=rss / 2**20, threads=threads, processes=len(cpu),
+                     pss_mb=pss_kb / 1024 if pss else float("nan"))
 
 
 def cpu_between(before: Footprint, after: Footprint) -> float:

@@ -339,10 +339,6 @@ class Student:
 
 
 def _carries_picture(result) -> bool:
-    """True when a published state change carries a new picture (colours or the per-pixel image)."""
+    """True when a published state change (a map of changed keys) carries a new picture: colours or the per-pixel image."""
     changes = result[0] if isinstance(result, list) and result else result
-    if isinstance(changes, dict):
-        return any(key in changes for key in PICTURE_KEYS)
-    if isinstance(changes, list):
-        return any(isinstance(c, dict) and c.get("key") in PICTURE_KEYS for c in changes)
-    return False
+    return isinstance(changes, dict) and any(key in changes for key in PICTURE_KEYS)
