@@ -13,6 +13,7 @@ import time
 import tomllib
 import urllib.request
 from pathlib import Path
+from types import SimpleNamespace
 
 import aiohttp
 import msgpack
@@ -122,10 +123,10 @@ def test_the_package_declares_the_server_proxy_entry():
     assert declared["jupyter_serverproxy_servers"] == {"phonglab": "phonglab.app.jupyter_proxy:setup_phonglab"}
 
 
-def test_the_server_proxy_entry_starts_phonglab_and_the_page_works_through_it(small_lessons, tmp_path):
+@pytest.fixture()
+def jupyter_server(small_lessons, tmp_path):
+    """A Jupyter server under ``/user/ana/`` (as JupyterHub runs one per student) with phonglab's proxy entry."""
     _need("jupyter_server_proxy")
-    from phonglab.app.jupyter_proxy import setup_phonglab
-
     port, token, base = free_port(), "phonglab-test-token", "/user/ana/"
     config = tmp_path / "jupyter_server_config.py"
     config.write_text("from phonglab.app.jupyter_proxy import setup_phonglab\n"
@@ -134,40 +135,86 @@ def test_the_server_proxy_entry_starts_phonglab_and_the_page_works_through_it(sm
     command = [sys.executable, "-m", "jupyter_server", "--no-browser", f"--port={port}", "--ip=127.0.0.1",
                f"--ServerApp.token={token}", f"--ServerApp.base_url={base}", f"--ServerApp.root_dir={tmp_path}",
                f"--config={config}", "--allow-root"]
-    assert setup_phonglab()["command"][-2:] == ["--url-prefix", "{base_url}phonglab/"]
     process = start_server(command, log_path=log_path, env={"PHONGLAB_LESSONS": str(small_lessons),
                                                             "JUPYTER_CONFIG_DIR": str(tmp_path / "config")})
-    origin = f"http://127.0.0.1:{port}"
-    app = f"{origin}{base}phonglab/"
-    auth = {"Authorization": f"token {token}"}
     try:
-        page = _get_when_up(f"{app}index.html", auth, process, log_path)
-        assert "<html" in page.lower() and "phonglab" in page.lower(), page[:300]
-
-        async def session():
-            async with aiohttp.ClientSession(headers=auth) as http:
-                async with http.post(f"{app}paraview/", json={}, headers={"Origin": origin}) as answer:
-                    assert answer.status == 200, (answer.status, await answer.text())
-                    launch = await answer.json()
-                async with http.post(f"{app}paraview/", json={}, headers={"Origin": "http://evil.example"}) as refused:
-                    foreign = refused.status
-                ws_url = launch["sessionURL"].replace("USE_HOST", f"127.0.0.1:{port}").replace("ws://", "http://")
-                async with http.ws_connect(ws_url, headers={"Origin": origin}, max_msg_size=0) as ws:
-                    for rpc_id, method, args in [(protocol.HELLO_ID, "wslink.hello", [{"secret": launch["secret"]}]),
-                                                 ("rpc:c1:1", "trame.state.get", [])]:
-                        await ws.send_bytes(protocol.chunk(msgpack.packb(
-                            {"wslink": "1.0", "id": rpc_id, "method": method, "args": args, "kwargs": {}})))
-                        answer = await _reply(ws, rpc_id)
-                        assert answer and "result" in answer, (method, answer)
-                    return launch["sessionURL"], foreign, answer["result"]["state"].get("lesson_title")
-
-        session_url, foreign, title = asyncio.run(asyncio.wait_for(session(), 180))
-        assert session_url == f"ws://USE_HOST{base}phonglab/ws", session_url
-        assert foreign == 403, foreign
-        assert title == "A small sphere", title
+        yield SimpleNamespace(port=port, base=base, origin=f"http://127.0.0.1:{port}", process=process,
+                              log=log_path, auth={"Authorization": f"token {token}"})
     finally:
         stop_server(process)
-    assert "Traceback" not in log_tail(log_path, 400), log_tail(log_path, 400)
+
+
+def test_the_server_proxy_entry_starts_phonglab_and_the_page_works_through_it(jupyter_server):
+    from phonglab.app.jupyter_proxy import setup_phonglab
+
+    hub = jupyter_server
+    assert setup_phonglab()["command"][-2:] == ["--url-prefix", "{base_url}phonglab/"]
+    app = f"{hub.origin}{hub.base}phonglab/"
+    page = _get_when_up(f"{app}index.html", hub.auth, hub.process, hub.log)
+    assert "<html" in page.lower() and "phonglab" in page.lower(), page[:300]
+
+    async def session():
+        async with aiohttp.ClientSession(headers=hub.auth) as http:
+            async with http.post(f"{app}paraview/", json={}, headers={"Origin": hub.origin}) as answer:
+                assert answer.status == 200, (answer.status, await answer.text())
+                launch = await answer.json()
+            async with http.post(f"{app}paraview/", json={}, headers={"Origin": "http://evil.example"}) as refused:
+                foreign = refused.status
+            ws_url = launch["sessionURL"].replace("USE_HOST", f"127.0.0.1:{hub.port}").replace("ws://", "http://")
+            title = await _lesson_title(http, ws_url, hub.origin, launch["secret"])
+            return launch["sessionURL"], foreign, title
+
+    session_url, foreign, title = asyncio.run(asyncio.wait_for(session(), 180))
+    assert session_url == f"ws://USE_HOST{hub.base}phonglab/ws", session_url
+    assert foreign == 403, foreign
+    assert title == "A small sphere", title
+
+
+def test_a_notebook_view_works_through_the_hubs_proxy_address(jupyter_server, small_lessons, monkeypatch):
+    # the kernel's view, addressed as the cell's iframe addresses it inside JupyterHub
+    _need("IPython")
+    from phonglab.app.jupyter import show
+
+    hub = jupyter_server
+    monkeypatch.setenv("JUPYTERHUB_SERVICE_PREFIX", hub.base)
+
+    def through_the_hub(view) -> tuple[str, str]:
+        # in a thread, while the view's trame server runs in the main thread's loop (as in a kernel)
+        url = view.url
+        page = _get_when_up(hub.origin + url, hub.auth, hub.process, hub.log)
+        assert "<html" in page.lower(), page[:300]
+        # the trame client's own WebSocket address: the page's folder + "ws", with trame's default secret
+        ws_url = hub.origin + url.split("index.html")[0] + "ws"
+
+        async def session():
+            async with aiohttp.ClientSession(headers=hub.auth) as http:
+                return await _lesson_title(http, ws_url, hub.origin, "wslink-secret")
+
+        return url, asyncio.run(asyncio.wait_for(session(), 120))
+
+    async def kernel():
+        view = show(small_lessons / "01-sphere.md")
+        try:
+            await view.app.server.ready
+            return view.port, await asyncio.to_thread(through_the_hub, view)
+        finally:
+            view.close()
+
+    port, (url, title) = asyncio.run(asyncio.wait_for(kernel(), 300))
+    assert url.startswith(f"{hub.base}proxy/{port}/index.html"), url
+    assert title == "A small sphere", title
+
+
+async def _lesson_title(http, ws_url: str, origin: str, secret: str):
+    """Log in over ``ws_url`` with ``secret`` and read the page's state: the open lesson's title."""
+    async with http.ws_connect(ws_url, headers={"Origin": origin}, max_msg_size=0) as ws:
+        for rpc_id, method, args in [(protocol.HELLO_ID, "wslink.hello", [{"secret": secret}]),
+                                     ("rpc:c1:1", "trame.state.get", [])]:
+            await ws.send_bytes(protocol.chunk(msgpack.packb(
+                {"wslink": "1.0", "id": rpc_id, "method": method, "args": args, "kwargs": {}})))
+            answer = await _reply(ws, rpc_id)
+            assert answer and "result" in answer, (method, answer)
+        return answer["result"]["state"].get("lesson_title")
 
 
 def _get_when_up(url: str, headers: dict, process, log_path, timeout: float = 180.0) -> str:
