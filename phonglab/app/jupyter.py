@@ -26,6 +26,7 @@ from __future__ import annotations
 import itertools
 import os
 import socket
+import tempfile
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -110,7 +111,6 @@ class LessonView:
         if path is not None:
             return figure(self.scene, path, **options)
         from IPython.display import Image
-        import tempfile
 
         with tempfile.TemporaryDirectory(prefix="phonglab-figure-") as folder:
             out = Path(folder) / "figure.png"

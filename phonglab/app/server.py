@@ -217,7 +217,7 @@ async def _first_message(socket: web.WebSocketResponse):
     loop is held up (several tabs' sessions being built one after the other,
     a second or so each), a hello that arrived meanwhile is still read,
     instead of the connection being dropped as silent while its hello waited
-    in the buffer. A stall counts as one tick of the clock.
+    in the buffer. A stall counts as two ticks of the clock at most.
 
     Raises
     ------
