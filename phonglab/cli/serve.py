@@ -159,7 +159,9 @@ def run(args) -> int:
         print("phonglab serve: warning: --allow-student-code: students' code runs on this server, in the "
               "grader's sandbox; for a trusted classroom only", file=sys.stderr)
 
-    if args.export_dir is not None:
+    if args.export_dir is not None and not args.one_session:
+        # (behind the launcher the front cleaned the folder once: a session process starting
+        # while another tab's export is being written must not take that file for a leftover)
         _clean_export_dir(args.export_dir)
 
     def ready(port):
