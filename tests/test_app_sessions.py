@@ -18,7 +18,7 @@ from types import SimpleNamespace
 
 import aiohttp
 import pytest
-from app_support import serving
+from app_support import in_thread, serving
 from test_app_security import LESSON, Client, run, secret_of
 
 from phonglab.app import server as server_module
@@ -74,19 +74,8 @@ def slow_builds(lessons, monkeypatch):
 
     opened = []
     server = server_module.SessionServer(build, on_session=lambda event, name: opened.append(event))
-    started = threading.Event()
-    where = {}
-
-    def ready(port):
-        where["port"], where["loop"] = port, asyncio.get_running_loop()
-        started.set()
-
-    thread = threading.Thread(target=lambda: asyncio.run(server.run("127.0.0.1", 0, on_ready=ready)), daemon=True)
-    thread.start()
-    assert started.wait(120), "the session server did not start"
-    yield SimpleNamespace(port=where["port"], building=building, opened=opened)
-    where["loop"].call_soon_threadsafe(server.stop)
-    thread.join(30)
+    with in_thread(server) as port:
+        yield SimpleNamespace(port=port, building=building, opened=opened)
 
 
 def test_a_hello_sent_while_another_session_is_built_is_read(slow_builds):

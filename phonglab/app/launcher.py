@@ -47,7 +47,8 @@ from aiohttp import web
 from wslink import launcher as wslink_launcher
 
 from phonglab.app import guard, protocol
-from phonglab.app.server import FULL_MESSAGE, STOP_SECONDS, add_page_routes, listen, normal_prefix, on_stop_signals
+from phonglab.app.server import (FULL_MESSAGE, STOP_SECONDS, add_page_routes, check_origin, listen, normal_prefix,
+                                 on_stop_signals)
 
 log = logging.getLogger(__name__)
 
@@ -164,10 +165,7 @@ class Launcher:
     # starting a tab's process
 
     def _check_origin(self, request: web.Request) -> None:
-        refusal = self.origins.refusal(request)
-        if refusal is not None:
-            log.warning("refused %s %s from %s: %s", request.method, request.path, request.remote, refusal)
-            raise web.HTTPForbidden(text=f"{refusal}\n")
+        check_origin(self.origins, request)
 
     async def _launch(self, request: web.Request):
         self._check_origin(request)

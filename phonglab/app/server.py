@@ -78,6 +78,14 @@ def _malloc_trim():
         return None
 
 
+def check_origin(origins: guard.OriginPolicy, request: web.Request) -> None:
+    """Raise HTTP 403 (and log why) unless ``origins`` lets ``request`` through."""
+    refusal = origins.refusal(request)
+    if refusal is not None:
+        log.warning("refused %s %s from %s: %s", request.method, request.path, request.remote, refusal)
+        raise web.HTTPForbidden(text=f"{refusal}\n")
+
+
 def normal_prefix(prefix: str) -> str:
     """A URL path prefix as ``/a/b/``: one slash at each end.
 
@@ -317,10 +325,7 @@ class SessionServer:
                                  headers={"Cache-Control": "no-store"})
 
     def _check_origin(self, request: web.Request) -> None:
-        refusal = self.origins.refusal(request)
-        if refusal is not None:
-            log.warning("refused %s %s from %s: %s", request.method, request.path, request.remote, refusal)
-            raise web.HTTPForbidden(text=f"{refusal}\n")
+        check_origin(self.origins, request)
 
     # ------------------------------------------------------------------
     # the WebSocket: hello, admission, relay
