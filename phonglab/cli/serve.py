@@ -10,6 +10,12 @@ Only the page this server serves may open a session (its own origin, or
 one given with ``--allow-origin`` when a proxy serves it under another
 address); at most ``--max-sessions`` tabs are open at once.
 
+With ``--launcher`` each tab gets a phonglab process of its own behind the
+same address (:mod:`phonglab.app.launcher`, wslink's launcher); the session
+processes are this command with ``--one-session`` on a 127.0.0.1 port.
+``--url-prefix`` names the path a proxy serves the app under (JupyterHub's
+jupyter-server-proxy: :mod:`phonglab.app.jupyter_proxy`).
+
 With ``--export-dir``, the hidden temporary files that an export killed
 mid-write left there (by a server or an export stopped with ``kill -9``)
 are removed when the server starts.
