@@ -62,3 +62,29 @@ def serving(target, *flags: str, log_path, timeout: float = 60.0):
         yield server
     finally:
         stop_server(server["process"])
+
+
+@contextlib.contextmanager
+def in_thread(server, timeout: float = 120.0):
+    """Run a :class:`~phonglab.app.server.SessionServer` on a free 127.0.0.1 port in a thread of its own.
+
+    Yields the bound port; the server is stopped (in its own loop) and its thread joined on leaving.
+    """
+    import asyncio
+    import threading
+
+    started = threading.Event()
+    where = {}
+
+    def ready(port):
+        where["port"], where["loop"] = port, asyncio.get_running_loop()
+        started.set()
+
+    thread = threading.Thread(target=lambda: asyncio.run(server.run("127.0.0.1", 0, on_ready=ready)), daemon=True)
+    thread.start()
+    assert started.wait(timeout), "the session server did not start"
+    try:
+        yield where["port"]
+    finally:
+        where["loop"].call_soon_threadsafe(server.stop)
+        thread.join(30)

@@ -20,7 +20,7 @@ from types import SimpleNamespace
 import aiohttp
 import msgpack
 import pytest
-from app_support import serving
+from app_support import in_thread, serving
 
 from phonglab.app import guard, protocol
 from phonglab.app.server import SessionServer
@@ -47,19 +47,8 @@ def served(lessons):
     events = []
     server = SessionServer(make_app(lessons), on_session=lambda event, name: events.append((event, name)),
                            max_sessions=MAX_SESSIONS, allow_origins=[PROXY])
-    started = threading.Event()
-    where = {}
-
-    def ready(port):
-        where["port"], where["loop"] = port, asyncio.get_running_loop()
-        started.set()
-
-    thread = threading.Thread(target=lambda: asyncio.run(server.run("127.0.0.1", 0, on_ready=ready)), daemon=True)
-    thread.start()
-    assert started.wait(120), "the session server did not start"
-    yield SimpleNamespace(server=server, port=where["port"], events=events)
-    where["loop"].call_soon_threadsafe(server.stop)
-    thread.join(30)
+    with in_thread(server) as port:
+        yield SimpleNamespace(server=server, port=port, events=events)
 
 
 # ---------------------------------------------------------------------------

@@ -45,7 +45,8 @@ def make_app(target, *, export_dir=None, allow_student_code=False):
 
 
 def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None, on_ready=None,
-          allow_origins=(), max_sessions: int | None = None, allow_student_code=False) -> None:
+          allow_origins=(), max_sessions: int | None = None, allow_student_code=False, secret: str | None = None,
+          one_session: bool = False, url_prefix: str = "/") -> None:
     """Serve the lessons at ``target`` until interrupted.
 
     Parameters
@@ -62,13 +63,21 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None,
         Origins allowed besides the page's own (a proxy's public address).
     max_sessions : int, optional
         Tabs served at once (:data:`~phonglab.app.guard.DEFAULT_MAX_SESSIONS` by default).
+    secret : str, optional
+        The session secret (a random one by default).
+    one_session : bool
+        Serve one tab, and stop when it closes (a session process behind the launcher).
+    url_prefix : str
+        The path a proxy serves the page under (``/user/ana/phonglab/``); ``/`` by default.
     """
     from phonglab.app import accuracy_panel, download, worker
     from phonglab.app.server import SessionServer
 
     def ready(bound: int) -> None:
-        # the export workers start and warm up in the background now, not on the first click
-        worker.start(warm=download.warm_up)
+        # the export workers start and warm up in the background now, not on the first click (a session
+        # process behind the launcher serves one tab: it starts them when that tab first exports)
+        if not one_session:
+            worker.start(warm=download.warm_up)
         if on_ready is not None:
             on_ready(bound)
 
@@ -76,7 +85,8 @@ def serve(target, *, host: str = "127.0.0.1", port: int = 8080, export_dir=None,
     try:
         limits = {} if max_sessions is None else {"max_sessions": max_sessions}
         build = make_app(target, export_dir=export_dir, allow_student_code=allow_student_code)
-        server = SessionServer(build, allow_origins=allow_origins, **limits)
+        server = SessionServer(build, allow_origins=allow_origins, secret=secret, one_session=one_session,
+                               url_prefix=url_prefix, **limits)
         asyncio.run(server.run(host, port, on_ready=ready))
     finally:
         # the worker processes (exports, the accuracy lesson), if any were started

@@ -18,6 +18,7 @@ BENCHMARKS = {
     "planner": "planned scenes against the full evaluation",
     "accuracy": "what each gain in accuracy costs in time",
     "ui": "slider-to-pixels latency in a real browser against a minimal trame app",
+    "load": "simulated students over WebSockets: latency, updates/s and capacity, one process and the launcher",
 }
 
 

@@ -10,6 +10,12 @@ Only the page this server serves may open a session (its own origin, or
 one given with ``--allow-origin`` when a proxy serves it under another
 address); at most ``--max-sessions`` tabs are open at once.
 
+With ``--launcher`` each tab gets a phonglab process of its own behind the
+same address (:mod:`phonglab.app.launcher`, wslink's launcher); the session
+processes are this command with ``--one-session`` on a 127.0.0.1 port.
+``--url-prefix`` names the path a proxy serves the app under (JupyterHub's
+jupyter-server-proxy: :mod:`phonglab.app.jupyter_proxy`).
+
 With ``--export-dir``, the hidden temporary files that an export killed
 mid-write left there (by a server or an export stopped with ``kill -9``)
 are removed when the server starts.
@@ -20,11 +26,15 @@ address or port that cannot be used.
 
 from __future__ import annotations
 
+import argparse
 import errno
 import ipaddress
+import os
 import socket
 import sys
 from pathlib import Path
+
+from phonglab.bench.usage import bounded
 
 #: where lessons live when no LESSON is given: ./lessons, else the source tree's
 DEFAULT_FOLDER = "lessons"
@@ -56,7 +66,35 @@ def add_parser(subparsers):
                              "graded like `phonglab grade` in a bubblewrap sandbox (own user, PID, network and mount "
                              "namespaces, a read-only view of only Python and NumPy, a seccomp filter, CPU, memory "
                              "and time limits), a few at once. Refuses to start when bwrap or libseccomp is missing")
+    parser.add_argument("--launcher", action="store_true",
+                        help="one phonglab process per browser tab, behind this one address (wslink's launcher): "
+                             "a class uses every core. --max-sessions processes at most, on 127.0.0.1 ports from "
+                             "--session-ports; a tab's process ends when the tab closes or after --idle-timeout")
+    parser.add_argument("--session-ports", type=_port, default=None, metavar="FIRST",
+                        help="with --launcher: the first of --max-sessions ports the session processes use on "
+                             "127.0.0.1 (default 9100)")
+    parser.add_argument("--idle-timeout", type=_idle, default=None, metavar="SECONDS",
+                        help="with --launcher: end a tab's session after this many seconds without a message "
+                             "(default 1800)")
+    parser.add_argument("--url-prefix", type=_prefix, default="/", metavar="PATH",
+                        help="the path a proxy serves the app under (e.g. /user/ana/phonglab/ behind JupyterHub's "
+                             "jupyter-server-proxy): the page's WebSocket address starts with it (default /)")
+    parser.add_argument("--one-session", action="store_true", help=argparse.SUPPRESS)
     return parser
+
+
+_max_sessions = bounded(int, 1, None, "a whole number of at least 1")
+_port = bounded(int, 0, 65535, "a whole number from 0 to 65535")
+_idle = bounded(float, 10, 86400, "a number of seconds from 10 to 86400")
+
+
+def _prefix(text: str) -> str:
+    from phonglab.app.server import normal_prefix
+
+    try:
+        return normal_prefix(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def _origin(text: str) -> str:
@@ -68,30 +106,6 @@ def _origin(text: str) -> str:
         return normal_origin(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def _max_sessions(text: str) -> int:
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number of at least 1, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a whole number of at least 1, got {value}")
-    return value
-
-
-def _port(text: str) -> int:
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to 65535, got {text!r}") from None
-    if not 0 <= value <= 65535:
-        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to 65535, got {value}")
-    return value
 
 
 def default_folder() -> Path:
@@ -149,7 +163,9 @@ def run(args) -> int:
         _check_student_code()
     _remove_stale_gradings()
 
-    if args.export_dir is not None:
+    if args.export_dir is not None and not args.one_session:
+        # (behind the launcher the front cleaned the folder once: a session process starting
+        # while another tab's export is being written must not take that file for a leftover)
         _clean_export_dir(args.export_dir)
 
     def ready(port):
@@ -158,10 +174,23 @@ def run(args) -> int:
 
     from phonglab.app import serve
 
+    if (args.session_ports is not None or args.idle_timeout is not None) and not args.launcher:
+        raise UsageError("--session-ports and --idle-timeout go with --launcher")
     try:
-        serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready,
-              allow_origins=args.allow_origin, max_sessions=args.max_sessions,
-              allow_student_code=args.allow_student_code)
+        if args.launcher:
+            _serve_launcher(target, args, ready)
+        else:
+            secret = None
+            if args.one_session:  # a session process behind the launcher: its secret comes in the environment
+                from phonglab.app.launcher import SECRET_ENV
+
+                secret = os.environ.get(SECRET_ENV) or None
+                if secret is None:
+                    raise UsageError(f"--one-session needs the secret in {SECRET_ENV}")
+            serve(target, host=host, port=args.port, export_dir=args.export_dir, on_ready=ready,
+                  allow_origins=args.allow_origin, max_sessions=1 if args.one_session else args.max_sessions,
+                  allow_student_code=args.allow_student_code, secret=secret, one_session=args.one_session,
+                  url_prefix=args.url_prefix)
     except socket.gaierror as exc:  # a host name or address that does not resolve
         raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror or exc}") from None
     except OSError as exc:
@@ -169,6 +198,27 @@ def run(args) -> int:
             raise UsageError(f"cannot listen on {host}:{args.port}: {exc.strerror}") from None
         raise
     return 0
+
+
+def _serve_launcher(target, args, ready) -> None:
+    """``--launcher``: the page and wslink's launcher here, one session process per tab."""
+    import asyncio
+    import logging
+
+    from phonglab.app import launcher, make_app
+
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    first = launcher.FIRST_PORT if args.session_ports is None else args.session_ports
+    if first + args.max_sessions - 1 > 65535:
+        from phonglab.cli import UsageError
+
+        raise UsageError(f"--session-ports: {args.max_sessions} ports from {first} pass 65535")
+    front = launcher.Launcher(
+        make_app(target), max_sessions=args.max_sessions, first_port=first, allow_origins=args.allow_origin,
+        idle=launcher.IDLE_SECONDS if args.idle_timeout is None else args.idle_timeout, url_prefix=args.url_prefix,
+        command=launcher.session_command(target, allow_student_code=args.allow_student_code,
+                                         export_dir=args.export_dir))
+    asyncio.run(front.run(args.host, args.port, on_ready=ready))
 
 
 def _clean_export_dir(folder) -> list[str]:
