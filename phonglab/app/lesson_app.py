@@ -253,15 +253,21 @@ class LessonApp(TrameApp):
     # ------------------------------------------------------------------
     # the scene on screen
 
-    def _show_scene(self, scene, *, new_lesson=False, colours_only=False, defer_panels=False) -> None:
+    def _show_scene(self, scene, *, new_lesson=False, colours_only=False, defer_panels=False,
+                    turned=False) -> None:
         """Make ``scene`` the one on screen and refresh everything that depends on it.
 
         With ``defer_panels`` the readout, verdict and widgets are refreshed a
         moment later, so the view's update leaves for the browser first.
+        ``turned``: the scene's camera is a view turned by the mouse (an
+        address's ``view.turned``), shown with its view angle as it is.
         """
         old = self.scene
         self.scene = scene
-        self.view.update(scene)
+        if old is None or old.camera != scene.camera:  # the view angle is the camera's, or widened
+            self._note_turned(turned)
+            self._camera_moved = self._camera_moved or turned
+        self.view.update(scene, keep_view_angle=turned)
         if new_lesson and self._camera_moved:
             # the browser turned the view: back to the lesson's camera
             self.view.reset_camera()
@@ -286,6 +292,13 @@ class LessonApp(TrameApp):
                 self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
         else:
             self._refresh_panels()
+
+    def _note_turned(self, turned: bool) -> None:
+        """Whether the view shows a camera turned by the mouse, as a view option (the address carries it)."""
+        if turned:
+            self.options = {**self.options, "turned": True}
+        else:
+            self.options = {k: v for k, v in self.options.items() if k != "turned"}
 
     def _deferred_panels(self) -> None:
         """The refresh :meth:`_show_scene` put off; records the update's server time."""
@@ -515,6 +528,7 @@ class LessonApp(TrameApp):
                 self.scene = scene
                 self.view.update(scene, keep_view_angle=True, defer_glyphs=not final, scene_plan=self._planned(scene))
                 self._camera_moved = self._turn_unsynced = True
+                self._note_turned(True)
                 if scene.interpolation != "pixel":
                     self._push_colours(change=True)
                 record_lap("turn", *clock.split())  # a re-shade (not a camera already shown)
@@ -609,7 +623,7 @@ class LessonApp(TrameApp):
             problems += refused
             if scene is not self.scene or options != self.options:
                 self.options = options
-                self._show_scene(scene)
+                self._show_scene(scene, turned=bool(options.get("turned")))
         if problems:
             self.notify("warning", address.notice(problems))
 
