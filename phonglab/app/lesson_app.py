@@ -267,7 +267,10 @@ class LessonApp(TrameApp):
         if old is None or old.camera != scene.camera:  # the view angle is the camera's, or widened
             self._note_turned(turned)
             self._camera_moved = self._camera_moved or turned
-        self.view.update(scene, keep_view_angle=turned)
+        if turned:
+            self.view.update(scene, keep_view_angle=True)
+        else:
+            self.view.update(scene)
         if new_lesson and self._camera_moved:
             # the browser turned the view: back to the lesson's camera
             self.view.reset_camera()
@@ -370,8 +373,9 @@ class LessonApp(TrameApp):
             self.pictures.drop()  # a picture still being made is not shown
             self.state.pixel_src = ""
             return
-        # the VTK part here, the NumPy part and the PNG in a thread; the newest scene's picture comes last
-        self.pictures.request(lambda: pixel_job.prepare(self.view, annotate=True))
+        # the VTK part here, the NumPy part and the PNG in a thread; the newest scene's picture comes last,
+        # and the readout and letters for its eye with it
+        self.pictures.request(lambda: pixel_job.prepare(self.view, annotate=True), along=self._probe_panels)
 
     def _planned(self, scene):
         """``plan(scene)``, made once per scene shown (the view's shading and the panels share it)."""
@@ -387,12 +391,9 @@ class LessonApp(TrameApp):
         verdict = self._planned(scene)
         s.plan_computed = [{"effect": e, "reason": r} for e, r in verdict.computed]
         s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
-        # probe readout and vector legend
-        point, normal = self.view.probe
-        s.readout = probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
-                                  scene_plan=verdict, mistake=self.view.mistake)
-        s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
-        s.arrow_tips = client.arrow_tips(self.view.arrow_tips(), s.legend, hidden=self.view.hidden_letters())
+        # probe readout and vector legend; over the core's picture they come with it (_refresh_pixels)
+        if not s.pixel_mode:
+            s.update(self._probe_panels())
         self.accuracy.follow(scene)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)
@@ -406,6 +407,18 @@ class LessonApp(TrameApp):
                 if key not in self._watched:
                     self._watched.add(key)
                     s.change(key)(self._watcher(key))
+
+    def _probe_panels(self) -> dict:
+        """The readout, the legend and the letters' tips for the scene and eye the view has now."""
+        scene = self.scene
+        point, normal = self.view.probe
+        legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
+        return {
+            "readout": probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
+                                     scene_plan=self._planned(scene), mistake=self.view.mistake),
+            "legend": legend,
+            "arrow_tips": client.arrow_tips(self.view.arrow_tips(), legend, hidden=self.view.hidden_letters()),
+        }
 
     def _sync_control_values(self) -> dict:
         """Write every control's value for the current scene into the state; returns them (state key -> value)."""
@@ -600,18 +613,24 @@ class LessonApp(TrameApp):
             self.notify("error", f"Export failed: {exc}")
 
     def _on_address(self, **_) -> None:
-        """The page was opened with an address: open the lesson it names, then apply its settings.
+        """The page was opened with an address: open the lesson it names, apply its settings, show the page.
 
         A bad lesson name, a refused value or an unknown key gives a notice; the rest applies.
+        The page shows no lesson until then (``page_ready``): a link's lesson is the first one drawn.
         """
         query = self.state[address.REQUEST_KEY]
-        index, problem = address.lesson_index(query, self.entries)
-        if problem:
-            self.notify("warning", problem)
+        if query is None:  # the key's first value, not the page's: the page sends a string, empty or not
             return
-        if index is not None and index != self.index:
-            self.open_lesson(index)
-        self._apply_address(query)
+        try:
+            index, problem = address.lesson_index(query, self.entries)
+            if problem:
+                self.notify("warning", problem)
+                return
+            if index is not None and index != self.index:
+                self.open_lesson(index)
+            self._apply_address(query)
+        finally:
+            self.state.page_ready = True
 
     @_guarded
     def _apply_address(self, query) -> None:

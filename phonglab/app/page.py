@@ -62,8 +62,10 @@ def initial_state() -> dict:
         "phonglab_download": None,  # a figure on its way to the browser (app/download.py)
         "url_query": "",  # the address of the view shown (app/address.py)
         "url_request": None,  # the address the page was opened with
+        "page_ready": False,  # the lesson the address names is open: until then the page shows it is loading
         "view_colors": None,
         "pixel_src": "",
+        "pixel_pending": False,  # a newer per-pixel picture is being made (app/pixel_picture.py)
         "pixel_mode": False,
         "pixel_hint": "",
         "control_values": {},
@@ -146,22 +148,23 @@ class _Page:
             with v3.VAppBar(density="compact", elevation=1, classes="phonglab-bar"):
                 v3.VAppBarNavIcon(click="drawer = !drawer", classes="phonglab-menu")
                 html.Div("phonglab", classes="phonglab-brand")
+                # until the lesson the address names is open, no lesson's title (the first one's, say)
                 html.Div(
-                    "{{ lesson_number != null ? lesson_number + ' · ' : '' }}{{ lesson_title }}",
+                    "{{ !page_ready ? '' : (lesson_number != null ? lesson_number + ' · ' : '') + lesson_title }}",
                     classes="phonglab-lesson-title",
                 )
                 v3.VSpacer()
                 v3.VBtn("Reset", prepend_icon="mdi-restore", variant="text", click=self.handlers.reset_lesson,
-                        disabled=("lesson_errors.length > 0",), classes="phonglab-reset")
+                        disabled=("!page_ready || lesson_errors.length > 0",), classes="phonglab-reset")
                 v3.VBtn("Export PNG", prepend_icon="mdi-image-outline", variant="tonal", color="primary",
-                        click=self.handlers.export_figure, disabled=("lesson_errors.length > 0",),
+                        click=self.handlers.export_figure, disabled=("!page_ready || lesson_errors.length > 0",),
                         loading=("export_busy",),  # the figure is being made in a worker (app/download.py)
                         classes="phonglab-export ml-2 mr-2")
                 # more figures to download: the per-term figure and the mistake comparison
                 with v3.VMenu():
                     with html.Template(v_slot_activator="{ props }"):
                         v3.VBtn(icon="mdi-menu-down", v_bind="props", variant="text", density="comfortable",
-                                disabled=("lesson_errors.length > 0",), title="More figures to download",
+                                disabled=("!page_ready || lesson_errors.length > 0",), title="More figures to download",
                                 classes="phonglab-export-more mr-2")
                     with v3.VList(density="compact"):
                         download.export_menu_items(self.handlers.export_figure)
@@ -183,10 +186,14 @@ class _Page:
                         with v3.Template(v_slot_append=True):
                             v3.VIcon("mdi-alert-circle-outline", color="error", v_if="!item.ok", size="small")
             with v3.VMain(classes="phonglab-main"):
-                with html.Div(classes="phonglab-grid"):
+                # the page's lesson, with its address's settings, from its first drawn frame: nothing before
+                with html.Div(classes="phonglab-grid", v_if="page_ready"):
                     self._lesson_column()
                     self._view_column()
                     self._control_column()
+                with html.Div(v_else=True, classes="phonglab-loading", role="status"):
+                    v3.VProgressCircular(indeterminate=True, size=28, width=3, color="primary")
+                    html.Span("Opening the lesson…")
 
     def _lesson_column(self):
         with html.Div(classes="phonglab-text"):
@@ -258,7 +265,10 @@ class _Page:
                     ArrowLetters(tips=("arrow_tips", []))  # in every mode, over the pixel image too
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
-                    html.Img(src=("pixel_src",), alt="per-pixel shading by the core")
+                    # decoded with the page's update: the picture shows in the frame its readout does
+                    html.Img(src=("pixel_src",), alt="per-pixel shading by the core", decoding="sync")
+                    html.Div("updating the picture…", v_if="pixel_pending", role="status",
+                             classes="phonglab-pixel-updating")
                 truth_ui.wrong_banner()
                 with html.Div(classes="phonglab-legend", v_if="legend.length"):
                     with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",

@@ -358,8 +358,8 @@ window.phonglab = {
     // lesson and the settings that differ from it) into the address bar with
     // history.replaceState, ADDRESS_DELAY ms after the last change (no history entry, no
     // flood while a slider moves; at once when the page is left), and, once, sends the
-    // query the page was opened with to the server (url_request), which checks it, opens
-    // that lesson and applies its settings.
+    // query the page was opened with to the server (url_request, empty when it has none),
+    // which checks it, opens that lesson, applies its settings and then shows the page.
     const ADDRESS_DELAY = 250;
     app.component("phonglab-address", {
       props: { query: { type: String, default: "" } },
@@ -376,9 +376,10 @@ window.phonglab = {
           }
         };
         window.addEventListener("pagehide", this.write);
+        // always sent, an empty query too: the server shows the page once the lesson asked for is open
         const asked = window.location.search;
-        if (asked && window.trame && window.trame.state) window.trame.state.set("url_request", asked);
-        else if (this.query) window.history.replaceState(window.history.state, "", window.location.pathname + this.query);
+        if (window.trame && window.trame.state) window.trame.state.set("url_request", asked || "");
+        if (!asked && this.query) window.history.replaceState(window.history.state, "", window.location.pathname + this.query);
       },
       unmounted() {
         window.removeEventListener("pagehide", this.write);

@@ -1,0 +1,172 @@
+"""The address in a real browser, on the real lessons: a link opens its lesson from the first frame, and the
+address bar carries exactly the view on screen after every experiment of every lesson.
+
+That the query of a view reopens the same view (readout to the last digit, picture pixel for pixel) is
+checked for every experiment without a browser, through the same code the page runs
+(``tests/test_app_address_scenes.py``). Here one tab applies every experiment of every lesson and its
+address bar must hold that query, at once (not a step behind); a few of those addresses are then opened
+in a fresh tab and compared with the tab they came from, on screen. This test costs about 3 minutes on
+2 loaded cores: one server, one tab through the 12 lessons, 5 fresh tabs.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import Page
+from waiting import wait_for
+
+from phonglab.app import address
+from phonglab.app import controls as ctl
+from phonglab.scene.lessons import catalog
+
+LESSONS = Path(__file__).resolve().parents[2] / "lessons"
+ENTRIES = [e for e in catalog(LESSONS)[0] if e.ok and e.lesson]
+#: (lesson, experiment) whose address is also opened in a fresh tab: a slider's range passed, a colour no hex
+#: code gives, a rolled camera and a new shape, per-pixel mode, a cutoff of 180°
+FRESH = {("07-light-sources", 1), ("02-ambient", 2), ("06-blinn-phong", 2), ("04-specular", 2),
+         ("07-light-sources", 0)}
+
+#: every animation frame until the page's scene is drawn and stable: the header's text, whether the lesson's
+#: page is shown, and the interpolation and lesson its state holds then
+RECORD_JS = r"""
+(() => {
+  const frames = (window.__phonglabFrames = []);
+  function frame() {
+    const title = document.querySelector(".phonglab-lesson-title");
+    const state = window.trame && window.trame.state;
+    const shown = !!document.querySelector(".phonglab-grid");
+    frames.push({
+      header: title ? title.innerText.trim() : null,
+      shown,
+      interpolation: shown && state ? state.get("interpolation") : null,
+      controls: Array.from(document.querySelectorAll(".phonglab-controls .phonglab-section, .phonglab-controls .phonglab-label"))
+        .slice(0, 3).map((e) => e.innerText.trim()),
+    });
+    const bench = window.__phonglabBench;
+    if (!(bench && bench.last !== 0 && bench.stable >= 10)) requestAnimationFrame(frame);
+  }
+  requestAnimationFrame(frame);
+})();
+"""
+
+
+@pytest.fixture(scope="module")
+def lessons_server(serve_app):
+    return serve_app(LESSONS)
+
+
+def _entry(stem):
+    return next(e for e in ENTRIES if e.path.stem == stem)
+
+
+def expected_query(entry, k) -> str:
+    """The query of lesson ``entry`` as it opens with experiment ``k`` applied (what the page's server writes)."""
+    scene = entry.scene.replace_many(entry.lesson.experiments[k].settings)
+    extra = {"view__mistake": ctl.MISTAKE_SWITCH} if entry.lesson.mistake else {}
+    controls = ctl.ControlSet(ctl.Frame.of_camera(entry.scene.camera), entry.lesson.controls, extra)
+    controls.update(scene)
+    return address.ViewAddress().query(entry, scene, dict(address.DEFAULT_OPTIONS), controls)
+
+
+def _search(page) -> str:
+    return page.evaluate("() => decodeURIComponent(window.location.search)")
+
+
+def _wait_address(page, wanted, what):
+    try:
+        page.wait_for_function("(q) => decodeURIComponent(window.location.search) === q", arg=wanted, timeout=30_000)
+    except Exception:
+        server = page.evaluate("() => window.trame.state.get('url_query')")
+        pytest.fail(f"{what}: the address bar holds {_search(page)!r}, wanted {wanted!r}; the server's query "
+                    f"is {server!r}", pytrace=False)
+
+
+def _on_screen(tab) -> dict:
+    """What the tab shows once settled: the readout's texts, the controls' and the picture (the core's, or the
+    canvas's pixel hash). Settled: the newest picture is shown, made for the view's size, and 10 frames alike."""
+    page = tab.page
+    wait_for(lambda: tab.state("readout") and not tab.state("pixel_pending"), "the readout and the newest picture")
+    if tab.state("pixel_mode"):
+        page.wait_for_function("""() => { const img = document.querySelector('.phonglab-pixel img');
+            const box = document.querySelector('.phonglab-view').getBoundingClientRect();
+            return img && img.complete && img.naturalWidth === Math.min(1600, Math.round(box.width)); }""",
+                               timeout=60_000)
+    tab.wait_settled()
+    texts = page.evaluate("""() => Array.from(document.querySelectorAll(
+        '.phonglab-readout .phonglab-mono, .phonglab-readout .phonglab-light-name')).map((e) => e.innerText.trim())""")
+    picture = (page.locator(".phonglab-pixel img").get_attribute("src") if tab.state("pixel_mode")
+               else tab.pixel_hash())
+    return {"readout": texts, "picture": picture, "controls": tab.state("control_values")}
+
+
+def test_a_link_opens_its_lesson_from_the_first_frame(browser, lessons_server):
+    link = lessons_server["url"] + "?lesson=08-interpolation&interpolation=flat"
+    entry = _entry("08-interpolation")
+    title = f"{entry.number} · {entry.title}"
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    try:
+        tab = Page(context.new_page(), lessons_server)
+        tab.page.add_init_script(tab_measure_js())
+        tab.page.add_init_script(RECORD_JS)
+        tab.page.goto(link)
+        tab.page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
+        tab.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
+        tab.wait_settled()
+        frames = tab.page.evaluate("() => window.__phonglabFrames")
+        headers = [f["header"] for f in frames]
+        wrong = [f for f in frames if f["header"] not in ("", None, title)
+                 or (f["shown"] and (f["header"] != title or f["interpolation"] != "flat"))]
+        assert not wrong, (link, f"{len(frames)} frames, first wrong: {wrong[:3]}", sorted(set(headers), key=headers.index))
+        assert frames and frames[-1]["shown"] and headers[-1] == title, (link, frames[-3:])
+        assert any(not f["shown"] for f in frames), "no loading frame recorded: the recording started too late"
+        assert tab.state("interpolation") == "flat" and not tab.errors, (tab.state("interpolation"), tab.errors)
+    finally:
+        context.close()
+
+
+def test_after_every_experiment_the_address_bar_holds_the_view_and_reopens_it(browser, lessons_server):
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    fresh = browser.new_context(viewport={"width": 1280, "height": 800})
+    try:
+        tab = Page(context.new_page(), lessons_server)
+        tab.page.add_init_script(tab_measure_js())
+        other = Page(fresh.new_page(), lessons_server)
+        other.page.add_init_script(tab_measure_js())
+        for entry in ENTRIES:
+            stem = entry.path.stem
+            tab.page.goto(f"{lessons_server['url']}?lesson={stem}")
+            tab.page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
+            tab.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
+            _wait_address(tab.page, f"?lesson={stem}", stem)
+            for k, experiment in enumerate(entry.lesson.experiments):
+                tab.page.locator(".phonglab-apply").nth(k).click()
+                wanted = expected_query(entry, k)
+                _wait_address(tab.page, wanted, f"{stem}, after {experiment.label!r}")
+                if (stem, k) in FRESH:
+                    shown = _on_screen(tab)
+                    other.page.goto(lessons_server["url"] + wanted)
+                    other.page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
+                    other.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
+                    _wait_address(other.page, wanted, f"{stem} reopened")
+                    # the fresh tab's view follows its size once drawn: the same view, when it has settled
+                    seen = []
+                    try:
+                        wait_for(lambda: seen.append(_on_screen(other)) or seen[-1] == shown,
+                                 f"{wanted} to show in a fresh tab what it showed in its own", timeout=90)
+                    except pytest.fail.Exception:
+                        differ = {k: (shown[k], seen[-1][k]) for k in shown if seen and seen[-1][k] != shown[k]}
+                        raise AssertionError(f"{wanted}: own tab, fresh tab differ in {differ}") from None
+                tab.page.locator(".phonglab-reset").click()
+                _wait_address(tab.page, f"?lesson={stem}", f"{stem} reset")
+        assert not tab.errors and not other.errors, (tab.errors, other.errors)
+    finally:
+        context.close()
+        fresh.close()
+
+
+def tab_measure_js() -> str:
+    from phonglab.bench.ui import MEASURE_JS
+
+    return MEASURE_JS
