@@ -159,13 +159,19 @@ class ArrowLetters(AbstractElement):
         The state binding, e.g. ``("arrow_tips", [])``: see :func:`arrow_tips`.
     hidden : tuple
         A binding that hides the letters (pixel mode's image carries its own).
+    eye : tuple
+        A binding to the eye the tips were made for (``[x, y, z]``).
+    covered : tuple
+        A binding that is true while the core's picture covers the view: the
+        letters then show only while the browser's camera is at ``eye``, the
+        eye of that picture (its numbers and tips come with it).
     """
 
     def __init__(self, **kwargs):
         super().__init__("phonglab-letters", **kwargs)
         if self.server:
             self.server.enable_module(MODULE)
-        self._attr_names += ["tips", "hidden"]
+        self._attr_names += ["tips", "hidden", "eye", "covered"]
 
 
 def arrow_tips(tips, legend, hidden=()) -> list[dict]:

@@ -418,6 +418,7 @@ class LessonApp(TrameApp):
                                      scene_plan=self._planned(scene), mistake=self.view.mistake),
             "legend": legend,
             "arrow_tips": client.arrow_tips(self.view.arrow_tips(), legend, hidden=self.view.hidden_letters()),
+            "arrow_eye": [float(c) for c in scene.camera.eye],  # the eye the tips and readout are for
         }
 
     def _sync_control_values(self) -> dict:

@@ -58,6 +58,7 @@ def initial_state() -> dict:
         "plan_skipped": [],
         "legend": [],
         "arrow_tips": [],
+        "arrow_eye": None,
         "notice": None,
         "phonglab_download": None,  # a figure on its way to the browser (app/download.py)
         "url_query": "",  # the address of the view shown (app/address.py)
@@ -262,7 +263,8 @@ class _Page:
                                "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.view:
                     ColorPush(push=("view_colors",), expect=("!pixel_mode",), picture=("pixel_src",))
-                    ArrowLetters(tips=("arrow_tips", []))  # in every mode, over the pixel image too
+                    # in every mode; over the core's picture, only while the view's eye is the picture's
+                    ArrowLetters(tips=("arrow_tips", []), eye=("arrow_eye", None), covered=("pixel_mode",))
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     # decoded with the page's update: the picture shows in the frame its readout does

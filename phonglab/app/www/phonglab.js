@@ -266,11 +266,41 @@ window.phonglab = {
     // at the arrow tips ({letter, base, tip, color}, world coordinates). Each frame in which the
     // browser's camera or the canvas changed, the tips are projected with the browser's own
     // camera; a letter goes just past its tip along the arrow (above it for an arrow seen
-    // end-on, like V), and a letter that would cover another one is moved aside.
+    // end-on, like V). Where that place covers a letter placed before, or lies as near another
+    // arrow's tip as its own (a letter reads as its nearest tip's), the letter turns about its
+    // own tip, then a ring further out: it never wanders off to another arrow.
     const LETTER_GAP = 11; // pixels from the tip to the letter's centre
     const LETTER_BOX = 17; // pixels a letter keeps free around its centre
+    const LETTER_STEP = 7; // pixels from one ring of places about a tip to the next
+    const LETTER_RINGS = 3;
+    const LETTER_TURNS = [0, 45, -45, 90, -90, 135, -135, 180]; // degrees from the arrow's direction
+    const SAME_TIP = 3; // pixels: tips nearer than this are one place (a letter cannot tell them apart)
+    // two eyes alike to a millionth of their distance from the origin
+    function sameEye(a, b) {
+      const scale = Math.max(1, Math.hypot(a[0], a[1], a[2]));
+      return Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) <= 1e-6 * scale;
+    }
+    // the place of a letter whose tip is `tip` and arrow runs along (dx, dy): the first free place about
+    // its tip, nearest first; else the one that covers and strays least
+    function placeLetter(tip, dx, dy, otherTips, placed) {
+      let best = null;
+      for (let ring = 0; ring < LETTER_RINGS; ring++) {
+        const r = LETTER_GAP + ring * LETTER_STEP;
+        for (const turn of LETTER_TURNS) {
+          const a = (turn * Math.PI) / 180, c = Math.cos(a), s = Math.sin(a);
+          const x = tip[0] + r * (c * dx - s * dy), y = tip[1] + r * (s * dx + c * dy);
+          const covers = placed.filter((o) => Math.abs(o.x - x) < LETTER_BOX && Math.abs(o.y - y) < LETTER_BOX).length;
+          const strays = otherTips.filter((o) => Math.hypot(o[0] - x, o[1] - y) <= r + 1).length;
+          if (!covers && !strays) return { x, y };
+          const cost = 3 * covers + 2 * strays + ring;
+          if (!best || cost < best.cost) best = { x, y, cost };
+        }
+      }
+      return best;
+    }
     app.component("phonglab-letters", {
-      props: { tips: { type: Array, default: () => [] }, hidden: { type: Boolean, default: false } },
+      props: { tips: { type: Array, default: () => [] }, hidden: { type: Boolean, default: false },
+               eye: { type: Array, default: null }, covered: { type: Boolean, default: false } },
       inject: { view: { default: null } },
       mounted() {
         const host = this.$el.closest(".phonglab-view") || this.$el.parentNode;
@@ -288,6 +318,7 @@ window.phonglab = {
       watch: {
         tips() { this.seen = ""; },
         hidden() { this.seen = ""; },
+        covered() { this.seen = ""; },
       },
       methods: {
         tick() {
@@ -302,6 +333,13 @@ window.phonglab = {
             return;
           }
           const camera = renderer.getActiveCamera();
+          // over the core's picture, the letters belong to the picture's eye: none while the view's is another
+          // (the camera the server pushed arrives before the picture made for it)
+          if (this.covered && this.eye && !sameEye(camera.getPosition(), this.eye)) {
+            this.layer.style.display = "none";
+            this.seen = "";
+            return;
+          }
           // the view angle spans the view's shorter side, as in the server's images (SceneView), so a
           // view taller than wide frames the scene as the per-pixel image does and the letters meet its arrows
           const horizontal = canvas.clientWidth < canvas.clientHeight;
@@ -326,19 +364,13 @@ window.phonglab = {
           };
           const placed = [];
           // a letter whose arrow tip the mesh hides (the server casts a ray to it) is not drawn
-          for (const t of (this.tips || []).filter((x) => !x.behind)) {
-            const base = screen(t.base), tip = screen(t.tip);
+          const shown = (this.tips || []).filter((x) => !x.behind).map((t) => ({ t, base: screen(t.base), tip: screen(t.tip) }));
+          for (const { t, base, tip } of shown) {
             let dx = tip[0] - base[0], dy = tip[1] - base[1];
             const length = Math.hypot(dx, dy);
             if (length < 4) { dx = 0; dy = -1; } else { dx /= length; dy /= length; }
-            const label = { t, x: tip[0] + dx * LETTER_GAP, y: tip[1] + dy * LETTER_GAP };
-            // nearly coinciding arrows: step the letter on past the one it would cover
-            for (let tries = 0; tries < 8; tries++) {
-              const clash = placed.find((o) => Math.abs(o.x - label.x) < LETTER_BOX && Math.abs(o.y - label.y) < LETTER_BOX);
-              if (!clash) break;
-              label.x = clash.x + LETTER_BOX;
-            }
-            placed.push(label);
+            const others = shown.filter((o) => Math.hypot(o.tip[0] - tip[0], o.tip[1] - tip[1]) >= SAME_TIP).map((o) => o.tip);
+            placed.push({ t, ...placeLetter(tip, dx, dy, others, placed) });
           }
           while (layer.children.length > placed.length) layer.lastChild.remove();
           placed.forEach((label, i) => {

@@ -1,0 +1,107 @@
+"""The letters N, L, R, V, H sit at their own arrow tips, in every lesson, mode and eye.
+
+The page projects the tips with the browser's camera and places each letter about its own tip
+(``www/phonglab.js``, ``phonglab-letters``). Here the same projection is made in the page and every
+letter drawn is checked against it: within :data:`REACH` pixels of its own tip, and nearer its own tip
+than any other arrow's (a reader takes a letter for its nearest tip's). Tips closer together than
+:data:`SAME_TIP` are one place, and either letter may be read as either. About 2 minutes on 2 loaded cores.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import Page
+
+from phonglab.bench.ui import MEASURE_JS
+from phonglab.scene.lessons import catalog
+
+LESSONS = Path(__file__).resolve().parents[2] / "lessons"
+STEMS = [e.path.stem for e in catalog(LESSONS)[0] if e.ok]
+#: farthest a letter's centre may be from its tip, in pixels (the third ring of places about it)
+REACH = 26.0
+#: tips nearer than this (pixels) are one place
+SAME_TIP = 3.0
+
+#: every letter drawn: its centre, and its own and the other shown tips projected with the page's camera
+LETTERS_JS = r"""() => {
+  const view = window.phonglabView, renderer = view.renderer;
+  const canvas = document.querySelector('.phonglab-view canvas');
+  const w = canvas.clientWidth, h = canvas.clientHeight, aspect = w / h;
+  const screen = (p) => { const d = renderer.worldToNormalizedDisplay(p[0], p[1], p[2], aspect);
+    return [canvas.offsetLeft + d[0] * w, canvas.offsetTop + (1 - d[1]) * h]; };
+  const tips = {};
+  for (const t of (window.trame.state.get('arrow_tips') || [])) if (!t.behind) tips[t.letter] = screen(t.tip);
+  return Array.from(document.querySelectorAll('.phonglab-letters .phonglab-letter'))
+    .filter((s) => s.parentNode.style.display !== 'none')
+    .map((s) => ({ letter: s.dataset.letter, at: [parseFloat(s.style.left), parseFloat(s.style.top)], tips }));
+}"""
+
+
+@pytest.fixture(scope="module")
+def tab(browser, serve_app):
+    server = serve_app(LESSONS)
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    page = Page(context.new_page(), server)
+    page.page.add_init_script(MEASURE_JS)
+    yield page
+    assert not page.errors, page.errors
+    context.close()
+
+
+def _settled(tab):
+    page = tab.page
+    page.wait_for_function("() => window.trame && window.trame.state && window.trame.state.get('page_ready') === true"
+                           " && !window.trame.state.get('pixel_pending')", timeout=60_000)
+    page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
+    tab.wait_settled()
+    # the letters follow on the next animation frames (over the core's picture, once its eye is the view's)
+    page.wait_for_function("() => { const l = document.querySelector('.phonglab-letters');"
+                           " return l && l.style.display !== 'none' && l.children.length > 0; }", timeout=60_000)
+    page.evaluate("() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
+
+
+def _misplaced(tab, what) -> list[str]:
+    problems = []
+    letters = tab.page.evaluate(LETTERS_JS)
+    for item in letters:
+        x, y = item["at"]
+        own = item["tips"][item["letter"]]
+        d_own = ((x - own[0]) ** 2 + (y - own[1]) ** 2) ** 0.5
+        if d_own > REACH:
+            problems.append(f"{what}: {item['letter']} is {d_own:.1f} px from its tip")
+        for other, tip in item["tips"].items():
+            apart = ((tip[0] - own[0]) ** 2 + (tip[1] - own[1]) ** 2) ** 0.5
+            d_other = ((x - tip[0]) ** 2 + (y - tip[1]) ** 2) ** 0.5
+            if other != item["letter"] and apart >= SAME_TIP and d_other <= d_own:
+                problems.append(f"{what}: {item['letter']} is {d_other:.1f} px from {other}'s tip, "
+                                f"{d_own:.1f} px from its own")
+    assert letters, f"{what}: no letters drawn"
+    return problems
+
+
+def test_every_lessons_letters_sit_at_their_own_tips(tab):
+    problems = []
+    for stem in STEMS:
+        tab.page.goto(f"{tab.server['url']}?lesson={stem}")
+        _settled(tab)
+        problems += _misplaced(tab, f"{stem} as it opens")
+        other = "gouraud" if tab.state("interpolation") == "pixel" else "pixel"
+        tab.set_state("interpolation", repr(other))
+        _settled(tab)
+        problems += _misplaced(tab, f"{stem} in {other} mode")
+        azimuth = tab.state("camera__azimuth")
+        tab.set_state("camera__azimuth", str(((azimuth + 215) % 360) - 180))  # the eye 35° round
+        _settled(tab)
+        problems += _misplaced(tab, f"{stem} in {other} mode, the eye 35° round")
+    assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("probe", ["0.1,0.1,0", "0.3,-0.3,0"])
+def test_crowded_tips_keep_their_letters(tab, probe):
+    # the floor under lesson 7's spot: N, L and R nearly (0.1, 0.1) or exactly (0.3, -0.3) along one line
+    tab.page.goto(f"{tab.server['url']}?lesson=07-light-sources&probe={probe}")
+    _settled(tab)
+    problems = _misplaced(tab, f"lesson 7, probe at {probe}")
+    assert not problems, "\n".join(problems)
