@@ -313,7 +313,10 @@ class _Page:
                 html.Span("segments", classes="phonglab-note")
             v3.VProgressLinear(indeterminate=True, v_if="accuracy_busy", color="primary", height=2,
                                classes="phonglab-accuracy-busy")
-            html.Div("Measuring… (the first picture takes a few seconds)", v_if="!accuracy_view",
+            html.Div("{{ accuracy_measuring }}", v_if="accuracy_busy && accuracy_view",
+                     classes="phonglab-note phonglab-accuracy-measuring-images")
+            self._try_again("accuracy_failed", "accuracy_failed", "phonglab-accuracy-images-failed")
+            html.Div("Measuring… (the first picture takes a few seconds)", v_if="!accuracy_view && !accuracy_failed",
                      classes="phonglab-note phonglab-accuracy-wait")
             with html.Div(v_else=True, classes="phonglab-accuracy-images"):
                 for key, caption in (
@@ -339,14 +342,21 @@ class _Page:
             with html.Div(v_if="accuracy_plot.status === 'measuring'", classes="phonglab-accuracy-measuring"):
                 v3.VProgressCircular(indeterminate=True, size=18, width=2, color="primary")
                 html.Span("measuring… the four studies take about five seconds", classes="phonglab-note")
-            html.Div("Could not measure: {{ accuracy_plot.error }}", v_if="accuracy_plot.status === 'failed'",
-                     classes="phonglab-note phonglab-accuracy-failed")
-            html.Img(v_if="accuracy_plot.status === 'ready'", src=("accuracy_plot.src",),
+            self._try_again("accuracy_plot.status === 'failed'", "accuracy_plot.error", "phonglab-accuracy-failed")
+            html.Img(v_if="accuracy_plot.src", src=("accuracy_plot.src",),
                      alt="error against time for the four studies", title="click to enlarge",
                      click="accuracy_zoom = true", classes="phonglab-accuracy-plot")
             with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw"):
                 with v3.VCard(click="accuracy_zoom = false"):
                     html.Img(src=("accuracy_plot.src",), classes="phonglab-accuracy-plot-large")
+
+    @staticmethod
+    def _try_again(condition: str, words: str, css: str):
+        """Why a study did not finish (state expression ``words``), and a button that measures again."""
+        with html.Div(v_if=condition, role="status", classes=f"phonglab-note phonglab-try-again {css}"):
+            html.Span(f"{{{{ {words} }}}}")
+            v3.VBtn("Try again", size="small", variant="tonal", color="primary", prepend_icon="mdi-refresh",
+                    click="accuracy_retry = accuracy_retry + 1", classes="phonglab-try-again-btn ml-2")
 
     def _readout_panel(self):
         with html.Div(classes="phonglab-readout", v_if="readout && !accuracy"):
