@@ -37,6 +37,7 @@ from phonglab.app.control import Control
 from phonglab.app.controls import TERMS
 from phonglab.app import truth_ui
 from phonglab.app.slider_access import slider_attributes
+from phonglab.app.wording import spoken_label
 
 
 def initial_state() -> dict:
@@ -147,7 +148,8 @@ class _Page:
         with VAppLayout(self.server, full_height=True) as self.layout:
             self.layout.root.classes = "phonglab"
             with v3.VAppBar(density="compact", elevation=1, classes="phonglab-bar"):
-                v3.VAppBarNavIcon(click="drawer = !drawer", classes="phonglab-menu")
+                v3.VAppBarNavIcon(click="drawer = !drawer", classes="phonglab-menu", title="Lesson list",
+                                  aria_label="Lesson list", __properties=[("aria_label", "aria-label")])
                 html.Div("phonglab", classes="phonglab-brand")
                 # until the lesson the address names is open, no lesson's title (the first one's, say)
                 html.Div(
@@ -477,7 +479,8 @@ def _widget(control: Control, suffix: str = "") -> None:
     elif control.kind == "color":
         with html.Div(classes=css + " phonglab-color-row"):
             html.Span(v_html=(label,), classes="phonglab-label")
-            html.Input(type="color", value=(key,), change=f"{key} = $event.target.value", classes="phonglab-color")
+            html.Input(type="color", value=(key,), change=f"{key} = $event.target.value", classes="phonglab-color",
+                       aria_label=spoken_label(control), __properties=[("aria_label", "aria-label")])
     elif control.kind == "select":
         with html.Div(classes=css):
             v3.VSelect(

@@ -447,6 +447,33 @@ window.phonglab = {
   },
 };
 
+// Screen readers hear what the screen shows. A slider's thumb (Vuetify's [role=slider]) says its value
+// as aria-valuenow, which is the widget's own number (log10 α for the shininess: 1.48 where the page
+// shows 30); its aria-valuetext is set to the value the control shows beside it, whenever that changes.
+// The 3D view's focusable box (vtk.js's, around the canvas) gets a name saying what it is and does.
+const VIEW_NAME = "The scene in 3D: drag to turn it, the wheel zooms, a click moves the probe";
+(function () {
+  function speak() {
+    for (const control of document.querySelectorAll(".phonglab-control")) {
+      const thumb = control.querySelector("[role=slider]");
+      const shown = control.querySelector(".phonglab-value");
+      const text = shown ? shown.textContent.trim() : "";
+      if (thumb && text && thumb.getAttribute("aria-valuetext") !== text) thumb.setAttribute("aria-valuetext", text);
+    }
+    const canvas = document.querySelector(".phonglab-view canvas");
+    const box = canvas && canvas.parentNode;
+    if (box && box.hasAttribute("tabindex") && box.getAttribute("aria-label") !== VIEW_NAME) {
+      box.setAttribute("role", "application");
+      box.setAttribute("aria-label", VIEW_NAME);
+    }
+  }
+  // the letters over the view change every frame of a drag: nothing for a screen reader there
+  const elsewhere = (record) => !(record.target.closest && record.target.closest(".phonglab-letters"))
+    && !(record.target.parentElement && record.target.parentElement.closest(".phonglab-letters"));
+  new MutationObserver((records) => { if (records.some(elsewhere)) speak(); })
+    .observe(document.documentElement, { childList: true, subtree: true, characterData: true });
+})();
+
 // A drag that turns the view ends with a click event too; only a click that
 // did not move may pick the probe. Capturing listeners on the document run
 // before the view's own click handler and stop a moved click there.
