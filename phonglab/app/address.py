@@ -117,6 +117,11 @@ TURNED = Control(
 ADDRESS_ONLY = {TURNED.path: TURNED}
 
 
+def turned(options: dict, value: bool) -> dict:
+    """View ``options`` saying whether the view shows a camera turned by the mouse (:data:`TURNED`)."""
+    return TURNED.write(None, value, options)[1]
+
+
 def _control(controls, path):
     """The control of an address key: the page's, or one only the address has; None for an unknown key."""
     try:

@@ -112,6 +112,7 @@ class LessonApp(TrameApp):
         self._panels_handle = None
         self._view_ms = (0.0, 0.0)  # wall and CPU ms of a control's update before its deferred panels
         self._camera_moved = False
+        self._camera_shown = None  # the view's camera as last sent to the browser
         self._turn_unsynced = False  # a turn re-shaded the view and the drag's end has not synchronised it yet
         self._plan = (None, None)  # (scene, plan(scene)): planned once for the view's shading and the panels
         self._pushed = (None, None)  # the last colour push and its colours (a turn sends only what changed)
@@ -149,6 +150,7 @@ class LessonApp(TrameApp):
             check_answer=self.check.submit,
             student_code=self.student_code.submit if allow_student_code else None,
             camera_move=self.on_camera_move,
+            view_ready=self._on_view_ready,
         ))
         self.open_lesson(first)
 
@@ -265,7 +267,7 @@ class LessonApp(TrameApp):
         old = self.scene
         self.scene = scene
         if old is None or old.camera != scene.camera:  # the view angle is the camera's, or widened
-            self._note_turned(turned)
+            self.options = address.turned(self.options, turned)
             self._camera_moved = self._camera_moved or turned
         if turned:
             self.view.update(scene, keep_view_angle=True)
@@ -283,8 +285,7 @@ class LessonApp(TrameApp):
         else:
             self.html_view.update()
             self._pushed = (None, None)  # the browser's colours now come from this synchronisation
-            if new_lesson or (old is not None and old.camera != scene.camera):
-                self.html_view.push_camera()
+            self._send_camera(force=new_lesson or (old is not None and old.camera != scene.camera))
         self._refresh_pixels()
         try:
             loop = asyncio.get_running_loop() if defer_panels else None
@@ -295,13 +296,6 @@ class LessonApp(TrameApp):
                 self._panels_handle = loop.call_later(PANEL_DELAY, self._deferred_panels)
         else:
             self._refresh_panels()
-
-    def _note_turned(self, turned: bool) -> None:
-        """Whether the view shows a camera turned by the mouse, as a view option (the address carries it)."""
-        if turned:
-            self.options = {**self.options, "turned": True}
-        else:
-            self.options = {k: v for k, v in self.options.items() if k != "turned"}
 
     def _deferred_panels(self) -> None:
         """The refresh :meth:`_show_scene` put off; records the update's server time."""
@@ -412,13 +406,15 @@ class LessonApp(TrameApp):
         """The readout, the legend and the letters' tips for the scene and eye the view has now."""
         scene = self.scene
         point, normal = self.view.probe
+        camera = self.view.camera_state()
         legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
         return {
             "readout": probe_readout(scene, point, normal, self.view.probe_vectors, self.view.light_index,
                                      scene_plan=self._planned(scene), mistake=self.view.mistake),
             "legend": legend,
             "arrow_tips": client.arrow_tips(self.view.arrow_tips(), legend, hidden=self.view.hidden_letters()),
-            "arrow_eye": [float(c) for c in scene.camera.eye],  # the eye the tips and readout are for
+            # the camera the tips and readout are for (and, in pixel mode, the picture that comes with them)
+            "arrow_camera": {"position": list(camera.eye), "view_angle": camera.view_angle},
         }
 
     def _sync_control_values(self) -> dict:
@@ -542,7 +538,7 @@ class LessonApp(TrameApp):
                 self.scene = scene
                 self.view.update(scene, keep_view_angle=True, defer_glyphs=not final, scene_plan=self._planned(scene))
                 self._camera_moved = self._turn_unsynced = True
-                self._note_turned(True)
+                self.options = address.turned(self.options, True)
                 if scene.interpolation != "pixel":
                     self._push_colours(change=True)
                 record_lap("turn", *clock.split())  # a re-shade (not a camera already shown)
@@ -580,6 +576,22 @@ class LessonApp(TrameApp):
             log.exception("camera")
             self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
 
+    def _send_camera(self, force: bool = False) -> None:
+        """Send the view's camera to the browser when it moved since last sent (or ``force``).
+
+        Its angle is widened to hold the arrows and markers for the window's size
+        (:meth:`SceneView.update`): the browser's letters meet the arrows of the core's picture.
+        """
+        shown = self.view.camera_state()
+        if force or shown != self._camera_shown:
+            self.html_view.push_camera()
+        self._camera_shown = shown
+
+    def _on_view_ready(self) -> None:
+        """The page's 3D view is mounted (it waits for the lesson its address names): send it the view's camera."""
+        if self.view is not None and self.scene is not None:
+            self._send_camera(force=True)
+
     def _on_view_size(self, view_size=None, **_) -> None:
         """The view's size in the browser: the server window (pixel mode, framing) follows it."""
         try:
@@ -592,6 +604,8 @@ class LessonApp(TrameApp):
         width, height = min(width, MAX_PIXEL_SIDE), min(height, MAX_PIXEL_SIDE)
         if self.view.size != (width, height):
             self.view.set_size((width, height))
+            if self.scene is not None:
+                self._send_camera()  # the angle that holds the arrows depends on the window's shape
             if self.scene is not None and self.scene.interpolation == "pixel":
                 self._refresh_pixels()
 

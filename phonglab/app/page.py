@@ -25,6 +25,7 @@ from typing import Callable
 from trame.ui.html import DivLayout
 from trame.ui.vuetify3 import VAppLayout
 from trame.widgets import client, html
+from trame_client.widgets.core import AbstractElement
 from trame.widgets import vtk as vtk_widgets
 from trame.widgets import vuetify3 as v3
 
@@ -59,7 +60,7 @@ def initial_state() -> dict:
         "plan_skipped": [],
         "legend": [],
         "arrow_tips": [],
-        "arrow_eye": None,
+        "arrow_camera": None,
         "notice": None,
         "phonglab_download": None,  # a figure on its way to the browser (app/download.py)
         "url_query": "",  # the address of the view shown (app/address.py)
@@ -99,11 +100,15 @@ class Handlers:
     check_answer: Callable | None = None  #: ``(answer)``: the check question's Check button
     student_code: Callable | None = None  #: ``(code)``: "Grade my code"; None: no panel (the default)
     camera_move: Callable | None = None  #: ``(camera)``: the browser's camera during a turn or zoom
+    view_ready: Callable | None = None  #: ``()``: the browser's 3D view is on the page (send it the camera)
+
+
+#: the trigger the page's 3D view calls once it is on the page (``www/phonglab.js``)
+VIEW_READY = "phonglab_view_ready"
 
 
 def address_element():
     """``<phonglab-address :query="url_query">``: keeps the address bar on the lesson (``www/phonglab.js``)."""
-    from trame_client.widgets.core import AbstractElement
 
     class Address(AbstractElement):
         def __init__(self, **kwargs):
@@ -111,6 +116,14 @@ def address_element():
             self._attr_names += ["query"]
 
     return Address(query=("url_query", ""))
+
+
+class NoticeTimer(AbstractElement):
+    """``<phonglab-notice-timer :notice="notice">``: an "info" or "success" notice goes after a few seconds."""
+
+    def __init__(self, **kwargs):
+        super().__init__("phonglab-notice-timer", **kwargs)
+        self._attr_names += ["notice"]
 
 
 def build_page(server, render_window, handlers: Handlers):
@@ -131,6 +144,8 @@ def build_page(server, render_window, handlers: Handlers):
     """
     page = _Page(server, render_window, handlers)
     page.build()
+    if handlers.view_ready is not None:
+        server.controller.trigger(VIEW_READY)(lambda *_, **__: handlers.view_ready())
     return page.layout, page.view
 
 
@@ -252,6 +267,23 @@ class _Page:
 
     def _view_column(self):
         with html.Div(classes="phonglab-centre"):
+            # the legend and the view's tools in a bar above the picture: nothing of the page covers the scene
+            with html.Div(classes="phonglab-viewbar", v_if="!lesson_errors.length"):
+                with html.Div(classes="phonglab-legend"):
+                    with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
+                                   title=("v.meaning",)):
+                        html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
+                        html.B("{{ v.letter }}")
+                with html.Div(classes="phonglab-tools"):
+                    with v3.VBtnToggle(v_model=("view__term",), mandatory=True, density="compact",
+                                       variant="outlined", divided=True, classes="phonglab-term-toggle"):
+                        for value, title in TERMS:
+                            v3.VBtn(title.replace(" terms", ""), value=value, size="small",
+                                    classes=f"phonglab-term-{value}")
+                    with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
+                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
+                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
+                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
             with html.Div(classes="phonglab-view"):
                 with vtk_widgets.VtkLocalView(
                     self.render_window,
@@ -266,7 +298,7 @@ class _Page:
                 ) as self.view:
                     ColorPush(push=("view_colors",), expect=("!pixel_mode",), picture=("pixel_src",))
                     # in every mode; over the core's picture, only while the view's eye is the picture's
-                    ArrowLetters(tips=("arrow_tips", []), eye=("arrow_eye", None), covered=("pixel_mode",))
+                    ArrowLetters(tips=("arrow_tips", []), camera=("arrow_camera", None), covered=("pixel_mode",))
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     # decoded with the page's update: the picture shows in the frame its readout does
@@ -274,27 +306,13 @@ class _Page:
                     html.Div("updating the picture…", v_if="pixel_pending", role="status",
                              classes="phonglab-pixel-updating")
                 truth_ui.wrong_banner()
-                with html.Div(classes="phonglab-legend", v_if="legend.length"):
-                    with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
-                                   title=("v.meaning",)):
-                        html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
-                        html.B("{{ v.letter }}")
-                with html.Div(classes="phonglab-tools", v_if="!lesson_errors.length"):
-                    with v3.VBtnToggle(v_model=("view__term",), mandatory=True, density="compact",
-                                       variant="outlined", divided=True, classes="phonglab-term-toggle"):
-                        for value, title in TERMS:
-                            v3.VBtn(title.replace(" terms", ""), value=value, size="small",
-                                    classes=f"phonglab-term-{value}")
-                    with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
-                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
-                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
-                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
                 html.Div(
                     "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you let go' : "
                     "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
                     "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
                     classes="phonglab-hint",
                 )
+                self._notice()
             self._accuracy_panel()
             self._readout_panel()
 
@@ -353,6 +371,22 @@ class _Page:
                     html.Img(src=("accuracy_plot.src",), classes="phonglab-accuracy-plot-large")
 
     @staticmethod
+    def _notice():
+        """The page's notice, over the foot of the view: it covers none of the controls, and a notice that
+        only informs ("Applied: …") goes by itself after a few seconds (``www/phonglab.js``)."""
+        with v3.VAlert(
+            v_if="notice",
+            type=("notice.kind",),
+            variant="tonal",
+            density="compact",
+            closable=True,
+            classes="phonglab-notice",
+            click_close="notice = null",
+        ):
+            html.Span("{{ notice.text }}")
+        NoticeTimer(notice=("notice",))
+
+    @staticmethod
     def _try_again(condition: str, words: str, css: str):
         """Why a study did not finish (state expression ``words``), and a button that measures again."""
         with html.Div(v_if=condition, role="status", classes=f"phonglab-note phonglab-try-again {css}"):
@@ -394,16 +428,6 @@ class _Page:
 
     def _control_column(self):
         with html.Div(classes="phonglab-side"):
-            with v3.VAlert(
-                v_if="notice",
-                type=("notice.kind",),
-                variant="tonal",
-                density="compact",
-                closable=True,
-                classes="phonglab-notice mb-3",
-                click_close="notice = null",
-            ):
-                html.Span("{{ notice.text }}")
             client.ServerTemplate(name=CONTROLS_TEMPLATE)
             with html.Div(classes="phonglab-plan", v_if="!lesson_errors.length"):
                 html.Div("What the planner computes", classes="phonglab-section")

@@ -9,6 +9,7 @@ than any other arrow's (a reader takes a letter for its nearest tip's). Tips clo
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -89,10 +90,14 @@ def test_every_lessons_letters_sit_at_their_own_tips(tab):
         problems += _misplaced(tab, f"{stem} as it opens")
         other = "gouraud" if tab.state("interpolation") == "pixel" else "pixel"
         tab.set_state("interpolation", repr(other))
+        tab.page.wait_for_function("(p) => window.trame.state.get('pixel_mode') === p", arg=other == "pixel",
+                                   timeout=60_000)
         _settled(tab)
         problems += _misplaced(tab, f"{stem} in {other} mode")
-        azimuth = tab.state("camera__azimuth")
+        azimuth, before = tab.state("camera__azimuth"), tab.state("arrow_camera")
         tab.set_state("camera__azimuth", str(((azimuth + 215) % 360) - 180))  # the eye 35° round
+        tab.page.wait_for_function("(b) => JSON.stringify(window.trame.state.get('arrow_camera')) !== b",
+                                   arg=json.dumps(before, separators=(",", ":")), timeout=60_000)
         _settled(tab)
         problems += _misplaced(tab, f"{stem} in {other} mode, the eye 35° round")
     assert not problems, "\n".join(problems)
@@ -104,4 +109,21 @@ def test_crowded_tips_keep_their_letters(tab, probe):
     tab.page.goto(f"{tab.server['url']}?lesson=07-light-sources&probe={probe}")
     _settled(tab)
     problems = _misplaced(tab, f"lesson 7, probe at {probe}")
+    assert not problems, "\n".join(problems)
+
+
+def test_the_letters_meet_the_pictures_arrows_after_a_new_marker_widens_the_view(tab):
+    # lesson 7's sun: a directional light's marker far out widens the server's view angle; the page's camera
+    # must follow, or the letters (projected with it) miss the arrows of the core's picture
+    tab.page.goto(f"{tab.server['url']}?lesson=07-light-sources")
+    _settled(tab)
+    tab.page.locator(".phonglab-apply").nth(2).click()
+    tab.page.wait_for_function("() => window.trame.state.get('lights_2__type') === 'directional'", timeout=60_000)
+    _settled(tab)
+    picture = tab.state("arrow_camera")
+    browser = tab.page.evaluate("() => { const c = window.phonglabView.renderer.getActiveCamera();"
+                                " return { position: c.getPosition(), view_angle: c.getViewAngle() }; }")
+    assert browser["view_angle"] == pytest.approx(picture["view_angle"], rel=1e-6), (browser, picture)
+    assert browser["position"] == pytest.approx(picture["position"], rel=1e-6), (browser, picture)
+    problems = _misplaced(tab, "lesson 7, the sun")
     assert not problems, "\n".join(problems)

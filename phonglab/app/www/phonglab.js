@@ -33,6 +33,9 @@ window.phonglab = {
       mounted() {
         // the local view this component sits in (tests and benchmarks read its camera and pixels)
         window.phonglabView = this.view;
+        // the view is on the page (after the lesson opened): the server sends it its camera, which is the
+        // scene's with the angle that holds the arrows and markers (one sent before the view was here is lost)
+        if (window.trame && typeof window.trame.trigger === "function") window.trame.trigger("phonglab_view_ready");
         // not reactive: the drawing policy's bookkeeping (see the top of this file)
         this.draw = { shown: null, colours: 0, coloursShown: 0, holdSince: null, holdLimit: 0, timer: null,
                       changedAt: null, frameMs: 0, roundTripMs: null, lettersTimer: null };
@@ -275,10 +278,12 @@ window.phonglab = {
     const LETTER_RINGS = 3;
     const LETTER_TURNS = [0, 45, -45, 90, -90, 135, -135, 180]; // degrees from the arrow's direction
     const SAME_TIP = 3; // pixels: tips nearer than this are one place (a letter cannot tell them apart)
-    // two eyes alike to a millionth of their distance from the origin
-    function sameEye(a, b) {
+    // a vtk.js camera and the server's {position, view_angle}: the same to a millionth
+    function sameCamera(camera, server) {
+      const a = camera.getPosition(), b = server.position;
       const scale = Math.max(1, Math.hypot(a[0], a[1], a[2]));
-      return Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) <= 1e-6 * scale;
+      return Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) <= 1e-6 * scale
+        && Math.abs(camera.getViewAngle() - server.view_angle) <= 1e-6 * server.view_angle;
     }
     // the place of a letter whose tip is `tip` and arrow runs along (dx, dy): the first free place about
     // its tip, nearest first; else the one that covers and strays least
@@ -300,7 +305,7 @@ window.phonglab = {
     }
     app.component("phonglab-letters", {
       props: { tips: { type: Array, default: () => [] }, hidden: { type: Boolean, default: false },
-               eye: { type: Array, default: null }, covered: { type: Boolean, default: false } },
+               camera: { type: Object, default: null }, covered: { type: Boolean, default: false } },
       inject: { view: { default: null } },
       mounted() {
         const host = this.$el.closest(".phonglab-view") || this.$el.parentNode;
@@ -333,9 +338,9 @@ window.phonglab = {
             return;
           }
           const camera = renderer.getActiveCamera();
-          // over the core's picture, the letters belong to the picture's eye: none while the view's is another
-          // (the camera the server pushed arrives before the picture made for it)
-          if (this.covered && this.eye && !sameEye(camera.getPosition(), this.eye)) {
+          // over the core's picture, the letters belong to the picture's camera: none while the view's is
+          // another (the camera the server pushed arrives before the picture made for it)
+          if (this.covered && this.camera && !sameCamera(camera, this.camera)) {
             this.layer.style.display = "none";
             this.seen = "";
             return;
@@ -423,6 +428,29 @@ window.phonglab = {
           clearTimeout(this.timer);
           this.timer = setTimeout(this.write, ADDRESS_DELAY);
         },
+      },
+      template: "<div style='display:none'></div>",
+    });
+    // <phonglab-notice-timer :notice="notice">: a notice that only informs ("Applied: …", kind info or
+    // success) goes by itself NOTICE_MS after it came, unless another has come since; warnings and errors
+    // stay until closed.
+    const NOTICE_MS = 4000;
+    app.component("phonglab-notice-timer", {
+      props: { notice: { type: Object, default: null } },
+      watch: {
+        notice(value) {
+          clearTimeout(this.timer);
+          if (!value || !["info", "success"].includes(value.kind)) return;
+          const serial = value.serial;
+          this.timer = setTimeout(() => {
+            const state = window.trame && window.trame.state;
+            const shown = state && state.get("notice");
+            if (shown && shown.serial === serial) state.set("notice", null);
+          }, NOTICE_MS);
+        },
+      },
+      unmounted() {
+        clearTimeout(this.timer);
       },
       template: "<div style='display:none'></div>",
     });
