@@ -10,15 +10,9 @@ page shows α (30): without the text a screen reader says 1.48.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
-from conftest import Page
+from real_lessons import lesson_tab, visit
 from waiting import wait_for
-
-from phonglab.bench.ui import MEASURE_JS
-
-LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 
 #: for a slider node: its name, its number, its aria-valuetext and the value its control shows beside it
 SLIDER_JS = """function () {
@@ -31,24 +25,16 @@ SLIDER_JS = """function () {
 
 @pytest.fixture
 def tab(browser, serve_app):
-    context = browser.new_context(viewport={"width": 1280, "height": 800})
-    page = Page(context.new_page(), serve_app(LESSONS))
-    page.page.add_init_script(MEASURE_JS)
-    yield page
-    assert not page.errors, page.errors
-    context.close()
+    with lesson_tab(browser, serve_app) as page:
+        yield page
 
 
 def _open(tab, stem):
-    page = tab.page
-    page.goto(f"{tab.server['url']}?lesson={stem}")
-    page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
-    page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
-    tab.wait_settled()
+    visit(tab, f"lesson={stem}")
     # every group of "all controls" open, so their widgets are in the tree too
-    for title in page.locator(".phonglab-group .v-expansion-panel-title").all():
+    for title in tab.page.locator(".phonglab-group .v-expansion-panel-title").all():
         title.click()
-    page.wait_for_function("() => document.querySelectorAll('.phonglab-control-all').length > 0", timeout=30_000)
+    tab.page.wait_for_function("() => document.querySelectorAll('.phonglab-control-all').length > 0", timeout=30_000)
 
 
 def _tree(tab):

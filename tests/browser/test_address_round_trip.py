@@ -11,17 +11,14 @@ in a fresh tab and compared with the tab they came from, on screen. This test co
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
-from conftest import Page
+from real_lessons import LESSONS, drawn, lesson_tab
 from waiting import wait_for
 
 from phonglab.app import address
 from phonglab.app import controls as ctl
 from phonglab.scene.lessons import catalog
 
-LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 ENTRIES = [e for e in catalog(LESSONS)[0] if e.ok and e.lesson]
 #: (lesson, experiment) whose address is also opened in a fresh tab: a slider's range passed, a colour no hex
 #: code gives, a rolled camera and a new shape, per-pixel mode, a cutoff of 180°
@@ -50,11 +47,6 @@ RECORD_JS = r"""
   requestAnimationFrame(frame);
 })();
 """
-
-
-@pytest.fixture(scope="module")
-def lessons_server(serve_app):
-    return serve_app(LESSONS)
 
 
 def _entry(stem):
@@ -101,19 +93,14 @@ def _on_screen(tab) -> dict:
     return {"readout": texts, "picture": picture, "controls": tab.state("control_values")}
 
 
-def test_a_link_opens_its_lesson_from_the_first_frame(browser, lessons_server):
-    link = lessons_server["url"] + "?lesson=08-interpolation&interpolation=flat"
+def test_a_link_opens_its_lesson_from_the_first_frame(browser, serve_app):
     entry = _entry("08-interpolation")
     title = f"{entry.number} · {entry.title}"
-    context = browser.new_context(viewport={"width": 1280, "height": 800})
-    try:
-        tab = Page(context.new_page(), lessons_server)
-        tab.page.add_init_script(tab_measure_js())
+    with lesson_tab(browser, serve_app) as tab:
+        link = tab.server["url"] + "?lesson=08-interpolation&interpolation=flat"
         tab.page.add_init_script(RECORD_JS)
         tab.page.goto(link)
-        tab.page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
-        tab.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
-        tab.wait_settled()
+        drawn(tab)
         frames = tab.page.evaluate("() => window.__phonglabFrames")
         headers = [f["header"] for f in frames]
         wrong = [f for f in frames if f["header"] not in ("", None, title)
@@ -121,24 +108,16 @@ def test_a_link_opens_its_lesson_from_the_first_frame(browser, lessons_server):
         assert not wrong, (link, f"{len(frames)} frames, first wrong: {wrong[:3]}", sorted(set(headers), key=headers.index))
         assert frames and frames[-1]["shown"] and headers[-1] == title, (link, frames[-3:])
         assert any(not f["shown"] for f in frames), "no loading frame recorded: the recording started too late"
-        assert tab.state("interpolation") == "flat" and not tab.errors, (tab.state("interpolation"), tab.errors)
-    finally:
-        context.close()
+        assert tab.state("interpolation") == "flat", tab.state("interpolation")
 
 
-def test_after_every_experiment_the_address_bar_holds_the_view_and_reopens_it(browser, lessons_server):
-    context = browser.new_context(viewport={"width": 1280, "height": 800})
-    fresh = browser.new_context(viewport={"width": 1280, "height": 800})
-    try:
-        tab = Page(context.new_page(), lessons_server)
-        tab.page.add_init_script(tab_measure_js())
-        other = Page(fresh.new_page(), lessons_server)
-        other.page.add_init_script(tab_measure_js())
+def test_after_every_experiment_the_address_bar_holds_the_view_and_reopens_it(browser, serve_app):
+    with lesson_tab(browser, serve_app) as tab, lesson_tab(browser, serve_app) as other:
+        url = tab.server["url"]
         for entry in ENTRIES:
             stem = entry.path.stem
-            tab.page.goto(f"{lessons_server['url']}?lesson={stem}")
-            tab.page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
-            tab.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
+            tab.page.goto(f"{url}?lesson={stem}")
+            drawn(tab)
             _wait_address(tab.page, f"?lesson={stem}", stem)
             for k, experiment in enumerate(entry.lesson.experiments):
                 tab.page.locator(".phonglab-apply").nth(k).click()
@@ -146,9 +125,8 @@ def test_after_every_experiment_the_address_bar_holds_the_view_and_reopens_it(br
                 _wait_address(tab.page, wanted, f"{stem}, after {experiment.label!r}")
                 if (stem, k) in FRESH:
                     shown = _on_screen(tab)
-                    other.page.goto(lessons_server["url"] + wanted)
-                    other.page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
-                    other.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
+                    other.page.goto(url + wanted)
+                    drawn(other)
                     _wait_address(other.page, wanted, f"{stem} reopened")
                     # the fresh tab's view follows its size once drawn: the same view, when it has settled
                     seen = []
@@ -156,17 +134,7 @@ def test_after_every_experiment_the_address_bar_holds_the_view_and_reopens_it(br
                         wait_for(lambda: seen.append(_on_screen(other)) or seen[-1] == shown,
                                  f"{wanted} to show in a fresh tab what it showed in its own", timeout=90)
                     except pytest.fail.Exception:
-                        differ = {k: (shown[k], seen[-1][k]) for k in shown if seen and seen[-1][k] != shown[k]}
+                        differ = {n: (shown[n], seen[-1][n]) for n in shown if seen and seen[-1][n] != shown[n]}
                         raise AssertionError(f"{wanted}: own tab, fresh tab differ in {differ}") from None
                 tab.page.locator(".phonglab-reset").click()
                 _wait_address(tab.page, f"?lesson={stem}", f"{stem} reset")
-        assert not tab.errors and not other.errors, (tab.errors, other.errors)
-    finally:
-        context.close()
-        fresh.close()
-
-
-def tab_measure_js() -> str:
-    from phonglab.bench.ui import MEASURE_JS
-
-    return MEASURE_JS

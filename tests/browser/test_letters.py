@@ -10,15 +10,12 @@ than any other arrow's (a reader takes a letter for its nearest tip's). Tips clo
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import pytest
-from conftest import Page
+from real_lessons import LESSONS, lesson_tab
 
-from phonglab.bench.ui import MEASURE_JS
 from phonglab.scene.lessons import catalog
 
-LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 STEMS = [e.path.stem for e in catalog(LESSONS)[0] if e.ok]
 #: farthest a letter's centre may be from its tip, in pixels (the third ring of places about it)
 REACH = 26.0
@@ -42,13 +39,8 @@ LETTERS_JS = r"""() => {
 
 @pytest.fixture(scope="module")
 def tab(browser, serve_app):
-    server = serve_app(LESSONS)
-    context = browser.new_context(viewport={"width": 1280, "height": 800})
-    page = Page(context.new_page(), server)
-    page.page.add_init_script(MEASURE_JS)
-    yield page
-    assert not page.errors, page.errors
-    context.close()
+    with lesson_tab(browser, serve_app) as page:
+        yield page
 
 
 def _settled(tab):

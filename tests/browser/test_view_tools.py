@@ -6,14 +6,8 @@ At 1280×800 and 1920×1080 on the real lessons. About a minute and a half on 2 
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
-from conftest import Page
-
-from phonglab.bench.ui import MEASURE_JS
-
-LESSONS = Path(__file__).resolve().parents[2] / "lessons"
+from real_lessons import lesson_tab, visit
 
 #: the boxes of what is asked for, in page pixels
 BOXES_JS = """(selectors) => selectors.map((s) => Array.from(document.querySelectorAll(s))
@@ -29,20 +23,12 @@ def _overlap(a, b) -> bool:
 
 @pytest.fixture
 def tab(request, browser, serve_app):
-    width, height = request.param
-    context = browser.new_context(viewport={"width": width, "height": height})
-    page = Page(context.new_page(), serve_app(LESSONS))
-    page.page.add_init_script(MEASURE_JS)
-    yield page
-    assert not page.errors, page.errors
-    context.close()
+    with lesson_tab(browser, serve_app, *request.param) as page:
+        yield page
 
 
 def _open(tab, stem):
-    tab.page.goto(f"{tab.server['url']}?lesson={stem}")
-    tab.page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
-    tab.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
-    tab.wait_settled()
+    visit(tab, f"lesson={stem}")
 
 
 @pytest.mark.parametrize("tab, stem, experiment", [
