@@ -125,7 +125,8 @@ def failure_words(exc: BaseException, what: str, kept: bool = False) -> str:
     'The accuracy plot did not finish within 3 minutes: the server is busy. The last figures stay.'
     """
     if isinstance(exc, (TimeoutError, concurrent.futures.TimeoutError)):
-        why = f"did not finish within {TIMEOUT / 60:.0f} minutes: the server is busy"
+        wait = f"{TIMEOUT / 60:.0f} minutes" if TIMEOUT >= 120 else f"{TIMEOUT:.0f} seconds"
+        why = f"did not finish within {wait}: the server is busy"
     elif isinstance(exc, (concurrent.futures.process.BrokenProcessPool, concurrent.futures.CancelledError)):
         why = "stopped: the process measuring it ended"
     else:

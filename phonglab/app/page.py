@@ -338,7 +338,7 @@ class _Page:
             self._try_again("accuracy_failed", "accuracy_failed", "phonglab-accuracy-images-failed")
             html.Div("Measuring… (the first picture takes a few seconds)", v_if="!accuracy_view && !accuracy_failed",
                      classes="phonglab-note phonglab-accuracy-wait")
-            with html.Div(v_else=True, classes="phonglab-accuracy-images"):
+            with html.Div(v_if="accuracy_view", classes="phonglab-accuracy-images"):
                 for key, caption in (
                     ("render", "'render: ' + accuracy_view.method + ', ' + accuracy_view.resolution + ' segments'"),
                     ("reference", "'exact sphere'"),

@@ -5,7 +5,7 @@ That the query of a view reopens the same view (readout to the last digit, pictu
 checked for every experiment without a browser, through the same code the page runs
 (``tests/test_app_address_scenes.py``). Here one tab applies every experiment of every lesson and its
 address bar must hold that query, at once (not a step behind); a few of those addresses are then opened
-in a fresh tab and compared with the tab they came from, on screen. This test costs about 3 minutes on
+in a fresh tab and compared with the tab they came from, on screen. This test costs about 2 minutes on
 2 loaded cores: one server, one tab through the 12 lessons, 5 fresh tabs.
 """
 
