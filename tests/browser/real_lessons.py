@@ -36,8 +36,21 @@ def visit(tab, query: str) -> None:
     drawn(tab)
 
 
+#: true once no newer per-pixel picture is on its way and the one shown was made for the view's size (the
+#: server follows the view's size once it is drawn: a picture, a camera and letters for it come after)
+PICTURE_FITS = """() => {
+  const state = window.trame && window.trame.state;
+  if (!state || state.get('pixel_pending')) return false;
+  if (!state.get('pixel_mode')) return true;
+  const img = document.querySelector('.phonglab-pixel img'), view = document.querySelector('.phonglab-view');
+  return !!(img && img.complete && view
+            && img.naturalWidth === Math.min(1600, Math.round(view.getBoundingClientRect().width)));
+}"""
+
+
 def drawn(tab) -> None:
-    """Wait until the page's view is there, has drawn and has stopped changing."""
+    """Wait until the page's view is there, has drawn, shows the picture for its size and has stopped changing."""
     tab.page.wait_for_selector(".phonglab-view canvas", timeout=90_000)
     tab.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
+    tab.page.wait_for_function(PICTURE_FITS, timeout=90_000)
     tab.wait_settled()

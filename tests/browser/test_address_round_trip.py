@@ -76,16 +76,11 @@ def _wait_address(page, wanted, what):
 
 
 def _on_screen(tab) -> dict:
-    """What the tab shows once settled: the readout's texts, the controls' and the picture (the core's, or the
-    canvas's pixel hash). Settled: the newest picture is shown, made for the view's size, and 10 frames alike."""
+    """What the tab shows once settled (:func:`real_lessons.drawn`): the readout's texts, the controls' and the
+    picture (the core's, or the canvas's pixel hash)."""
     page = tab.page
-    wait_for(lambda: tab.state("readout") and not tab.state("pixel_pending"), "the readout and the newest picture")
-    if tab.state("pixel_mode"):
-        page.wait_for_function("""() => { const img = document.querySelector('.phonglab-pixel img');
-            const box = document.querySelector('.phonglab-view').getBoundingClientRect();
-            return img && img.complete && img.naturalWidth === Math.min(1600, Math.round(box.width)); }""",
-                               timeout=60_000)
-    tab.wait_settled()
+    wait_for(lambda: tab.state("readout"), "the readout")
+    drawn(tab)
     texts = page.evaluate("""() => Array.from(document.querySelectorAll(
         '.phonglab-readout .phonglab-mono, .phonglab-readout .phonglab-light-name')).map((e) => e.innerText.trim())""")
     picture = (page.locator(".phonglab-pixel img").get_attribute("src") if tab.state("pixel_mode")

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from real_lessons import LESSONS, lesson_tab
+from real_lessons import LESSONS, drawn, lesson_tab
 
 from phonglab.scene.lessons import catalog
 
@@ -44,15 +44,11 @@ def tab(browser, serve_app):
 
 
 def _settled(tab):
-    page = tab.page
-    page.wait_for_function("() => window.trame && window.trame.state && window.trame.state.get('page_ready') === true"
-                           " && !window.trame.state.get('pixel_pending')", timeout=60_000)
-    page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
-    tab.wait_settled()
-    # the letters follow on the next animation frames (over the core's picture, once its eye is the view's)
-    page.wait_for_function("() => { const l = document.querySelector('.phonglab-letters');"
-                           " return l && l.style.display !== 'none' && l.children.length > 0; }", timeout=60_000)
-    page.evaluate("() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
+    drawn(tab)
+    # the letters follow on the next animation frames (over the core's picture, once its camera is the view's)
+    tab.page.wait_for_function("() => { const l = document.querySelector('.phonglab-letters');"
+                               " return l && l.style.display !== 'none' && l.children.length > 0; }", timeout=60_000)
+    tab.page.evaluate("() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
 
 
 def _misplaced(tab, what) -> list[str]:
