@@ -151,7 +151,7 @@ def test_the_graders_picture_is_encoded_for_the_display(monkeypatch, encoding):
     options = {} if encoding == "srgb" else {"encoding": encoding}  # sRGB is the default
     data, note = grade_picture.picture_png("unused.py", Limits(), **options)
     image = decode(data)
-    size, gap, caption = grade_picture.PICTURE_SIZE * 2, 8, 18
+    size, gap, caption = grade_picture.PICTURE_SIZE * 2, 8, grade_picture.CAPTION_HEIGHT
     for panel_index in (0, 1):  # the student's sphere and the core's
         x, y = gap + panel_index * (size + gap) + size // 2, caption + gap + size // 2
         assert image[y, x].tolist() == [EXPECTED[encoding]] * 3, (encoding, panel_index, image[y, x])

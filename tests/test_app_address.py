@@ -225,16 +225,16 @@ PLAIN_CASES = [
     ("material.ks=-1", "material.ks", "-1", "a number of 0 or more"),
     ("material.shininess=-5", "material.shininess", "-5", "a number of 0 or more"),
     ("material.kd=1,2", "material.kd", "1,2", "three of them (red, green, blue)"),
-    ("exposure=9", "exposure", "9", "from 0.1 to 4"),
+    ("exposure=-1", "exposure", "-1", "a number above 0"),
     ("material.ks.level=1.5", "material.ks.level", "1.5", "from 0 to 1"),
     ("material.shininess.log=7", "material.shininess.log", "7", "from 0 to 3"),
-    ("lights[1].intensity=x", "lights[1].intensity", "x", "from 0 to 2"),
+    ("lights[1].intensity=x", "lights[1].intensity", "x", "a number of 0 or more"),
     ("lights[1].attenuation=0,0,0", "lights[1].attenuation", "0,0,0", "above 0 at every distance"),
     ("lights[1].position=1,2,abc", "lights[1].position", "1,2,abc", "three numbers separated by commas"),
     ("model=phongg", "model", "phongg", "phong, blinn-phong or cook-torrance"),
     ("two_sided=yes", "two_sided", "yes", "true or false"),
     ("display=x", "display", "x", "srgb or linear"),
-    ("geometry.resolution=1000", "geometry.resolution", "1000", "from 4 to 256"),
+    ("geometry.resolution=2000", "geometry.resolution", "2000", "a whole number from 3 to 1024"),
     ("colour=red", "colour", "red", "no setting called that"),
 ]
 
@@ -305,7 +305,7 @@ def test_a_tab_writes_its_settings_and_another_tab_opens_them(make_app):
     other._on_address()
     assert other.entry.path.stem == "02-spot" and other.scene.lights[1].cutoff == 40
     text = other.state.notice["text"]
-    assert "(lights[1].exponent) = -3," in text and "from 0 to 128" in text, text
+    assert "(lights[1].exponent) = -3," in text and "a number of 0 or more" in text, text
     assert other.state[address.QUERY_KEY] == "?lesson=02-spot&lights[1].cutoff=40"
 
 
@@ -319,7 +319,7 @@ def test_the_address_written_stays_within_the_bounds_it_is_read_with(monkeypatch
 
 def test_a_view_zoomed_past_the_eye_sliders_end_writes_an_address_that_reads_back():
     # the wheel can take the eye closer than the eye-distance slider goes (0.68 against 1.5): the address then
-    # carries the slider's end, and reopening it refuses nothing
+    # carries the eye itself, and reopening it refuses nothing and gives that eye
     from phonglab.app.eye import scene_camera
 
     c = SPECULAR.scene.camera
@@ -331,6 +331,36 @@ def test_a_view_zoomed_past_the_eye_sliders_end_writes_an_address_that_reads_bac
     controls.update(scene)
     assert controls.by_key["camera__distance"].read(scene, dict(address.DEFAULT_OPTIONS)) == pytest.approx(0.68)
     query = address.ViewAddress().query(SPECULAR, scene, dict(address.DEFAULT_OPTIONS), controls)
-    assert "camera.distance=1.5" in query.split("?")[1].split("&"), query
-    _, _, problems = _open(SPECULAR, query)
-    assert problems == [], (query, problems)
+    parts = query.split("?")[1].split("&")
+    assert not any(p.startswith("camera.distance=") for p in parts), query
+    reopened, _, problems = _open(SPECULAR, query)
+    assert problems == [] and reopened.camera == scene.camera, (query, problems, reopened.camera, scene.camera)
+
+
+@pytest.mark.parametrize("setting, field", [
+    ("lights[1].intensity=5", "lights[1].intensity"),      # past the intensity slider (0..2)
+    ("lights[1].color=0.35,0.5,1", "lights[1].color"),     # no sRGB hex code gives these
+    ("exposure=9", "exposure"),                             # past the exposure slider (0.1..4)
+    ("camera.up=0.1,1,0.05", "camera.up"),                  # a roll: no widget says it
+])
+def test_the_address_takes_what_a_lesson_file_takes_past_a_widget(setting, field):
+    scene, _, problems = _open(SPECULAR, f"?lesson=04-specular&{setting}")
+    assert problems == [], (setting, problems)
+    got = scene_to_dict(scene)
+    for part in field.replace("]", "").replace("[", ".").split("."):
+        got = got[int(part)] if part.isdigit() else got[part]
+    expected = [float(x) for x in setting.split("=")[1].split(",")]
+    assert got == pytest.approx(expected if len(expected) > 1 else expected[0]), (setting, got)
+
+
+def test_an_experiment_past_the_sliders_is_written_exactly():
+    # lesson 7's inverse-square experiment sets intensity 5, past the slider: the address says 5, not the slider's 2
+    entry = next(e for e in REAL if e.path.stem == "07-light-sources")
+    experiment = next(x for x in entry.lesson.experiments if "Inverse-square" in x.label)
+    scene = entry.scene.replace_many(experiment.settings)
+    controls = _controls(entry)
+    controls.update(scene)
+    query = address.ViewAddress().query(entry, scene, dict(address.DEFAULT_OPTIONS), controls)
+    assert "lights[1].intensity=5" in query.split("?")[1].split("&"), query
+    reopened, _, problems = _open(entry, query)
+    assert problems == [] and address.differing_fields(scene, reopened) == [], (query, problems)

@@ -196,7 +196,8 @@ class FakeState:
         self.values = []
 
     def __setitem__(self, key, value):
-        self.values.append(value)
+        if key == pixel_picture.STATE_KEY:
+            self.values.append(value)
 
     def flush(self):
         pass

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["PICTURE_SIZE", "DIFFERENCE_RANGE", "picture_scene", "sphere_images", "picture_png"]
+__all__ = ["PICTURE_SIZE", "DIFFERENCE_RANGE", "CAPTION_HEIGHT", "picture_scene", "sphere_images", "caption_lines",
+           "picture_png"]
 
 #: the picture: a unit sphere seen from (0, 0, 4), lit from the front-right and,
 #: to show the mistakes, from behind (no-clamp darkens the front, ungated glows on the rim)
@@ -21,6 +22,14 @@ PICTURE_SECONDS_PER_POINT = 0.01
 PICTURE_BATCH = 256
 #: the difference map's log scale: |difference| from the first to the second value
 DIFFERENCE_RANGE = (1e-4, 1.0)
+#: the picture's layout in pixels: each panel's side, the gap around panels, a caption line's height
+PANEL = PICTURE_SIZE * 2
+GAP = 8
+LINE = 14
+#: lines a panel's caption may take (a longer one wraps at spaces; past this it is cut with "…")
+CAPTION_LINES = 2
+#: the band above the panels that holds their captions
+CAPTION_HEIGHT = CAPTION_LINES * LINE + 4
 
 
 
@@ -71,6 +80,26 @@ def sphere_images(file, limits):
     return core, student, mask, failures
 
 
+def caption_lines(text: str, width: float, measure) -> list[str]:
+    """``text`` in lines no wider than ``width`` (``measure(line)`` gives a line's width), broken at spaces.
+
+    At most :data:`CAPTION_LINES` lines; what does not fit ends the last with "…".
+    A word wider than ``width`` on its own keeps a line to itself.
+    """
+    lines: list[str] = []
+    for word in text.split():
+        if lines and measure(f"{lines[-1]} {word}") <= width:
+            lines[-1] = f"{lines[-1]} {word}"
+        else:
+            lines.append(word)
+    if len(lines) > CAPTION_LINES:
+        last = " ".join(lines[CAPTION_LINES - 1:])
+        while last and measure(last + "…") > width:
+            last = last[:-1]
+        lines = lines[:CAPTION_LINES - 1] + [last.rstrip() + "…"]
+    return lines
+
+
 def picture_png(file, limits, *, encoding: str = "srgb", exposure: float = 1.0) -> tuple[bytes | None, str]:
     """``student | core | difference`` as PNG bytes, and a note on pixels without a colour.
 
@@ -107,7 +136,7 @@ def picture_png(file, limits, *, encoding: str = "srgb", exposure: float = 1.0) 
     for image in (student_rgb, diff_rgb):
         image[bad] = (255, 0, 255)  # no colour from the student: an error, NaN or time-out
 
-    size, gap, caption = PICTURE_SIZE * 2, 8, 18
+    size, gap, caption = PANEL, GAP, CAPTION_HEIGHT
     canvas = Image.new("RGB", (3 * size + 4 * gap, size + caption + 2 * gap), (255, 255, 255))
     draw = ImageDraw.Draw(canvas)
     try:
@@ -115,11 +144,14 @@ def picture_png(file, limits, *, encoding: str = "srgb", exposure: float = 1.0) 
     except TypeError:  # Pillow < 10.1: the bitmap font only
         font = ImageFont.load_default()
     worst = float(diff[mask & ~bad].max()) if np.any(mask & ~bad) else 0.0
-    labels = ("your shade()", "phonglab.shade", f"|difference| max {worst:.2g} (log 1e-4..1)")
+    lo_text, hi_text = (f"{v:g}" for v in DIFFERENCE_RANGE)
+    labels = ("your shade()", "phonglab.shade", f"|difference| max {worst:.2g} (log scale {lo_text} to {hi_text})")
     for i, (image, label) in enumerate(zip((student_rgb, to_rgb(core), diff_rgb), labels)):
         x = gap + i * (size + gap)
         canvas.paste(Image.fromarray(image).resize((size, size), Image.NEAREST), (x, caption + gap))
-        draw.text((x, 3), label, fill=(0, 0, 0), font=font)
+        # each caption within its own panel's width, wrapped rather than cut at the picture's edge
+        for row, line in enumerate(caption_lines(label, size, lambda t: draw.textlength(t, font=font))):
+            draw.text((x, 3 + row * LINE), line, fill=(0, 0, 0), font=font)
     buffer = io.BytesIO()
     canvas.save(buffer, format="PNG")
     return buffer.getvalue(), (f"{failures} pixels without a colour, shown magenta" if failures else "")

@@ -17,6 +17,11 @@ URLs. The page shows "measuring…" meanwhile. A session asks for at most one
 set of error images at a time; picks made while one is being computed are
 merged into the last one.
 
+A study that cannot finish (no result within :data:`TIMEOUT`, a worker that
+died, an error) is told in plain words (:func:`failure_words`), never as an
+exception; the last plot and images stay on the page, and a "Try again"
+button (the state key ``accuracy_retry``) measures again.
+
 This module imports only the standard library at import time: the worker
 processes import it to run :func:`plot_data_url` and :func:`error_panel`.
 """
@@ -26,6 +31,7 @@ from __future__ import annotations
 import asyncio
 import base64
 import concurrent.futures
+import concurrent.futures.process
 import io
 import logging
 import math
@@ -108,6 +114,24 @@ def plot_data_url() -> str:
         path = accuracy_plot_png(Path(folder) / "accuracy.png")
         data = Path(path).read_bytes()
     return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
+
+
+def failure_words(exc: BaseException, what: str, kept: bool = False) -> str:
+    """Why ``what`` (a study, "The error images …") has no result, in a student's words: no exception names.
+
+    ``kept``: the page still shows the last figures (it says so).
+
+    >>> failure_words(TimeoutError("no result after 180 s"), "The accuracy plot", kept=True)
+    'The accuracy plot did not finish within 3 minutes: the server is busy. The last figures stay.'
+    """
+    if isinstance(exc, (TimeoutError, concurrent.futures.TimeoutError)):
+        wait = f"{TIMEOUT / 60:.0f} minutes" if TIMEOUT >= 120 else f"{TIMEOUT:.0f} seconds"
+        why = f"did not finish within {wait}: the server is busy"
+    elif isinstance(exc, (concurrent.futures.process.BrokenProcessPool, concurrent.futures.CancelledError)):
+        why = "stopped: the process measuring it ended"
+    else:
+        why = "stopped with an error (the server's log has the details)"
+    return f"{what} {why}." + (" The last figures stay." if kept else "")
 
 
 def _figure(value: float) -> str:
@@ -232,9 +256,12 @@ class AccuracyPanel:
 
     State keys: ``accuracy`` (the panel is shown), ``accuracy_method`` and
     ``accuracy_resolution`` (the picker), ``accuracy_plot`` (``{"status":
-    "measuring" | "ready" | "failed", "src", "error"}``), ``accuracy_view``
-    (the last :func:`error_panel` result, or None) and ``accuracy_busy``
-    (error images are being computed).
+    "measuring" | "ready" | "failed", "src", "error"}``; a failed plot keeps
+    the last plot's ``src``), ``accuracy_view`` (the last :func:`error_panel`
+    result, or None), ``accuracy_busy`` (error images are being computed),
+    ``accuracy_measuring`` (what they are, in words), ``accuracy_failed``
+    (why the last ones did not come, in words, or "") and ``accuracy_retry``
+    (the page's "Try again" counts it up).
 
     Parameters
     ----------
@@ -261,9 +288,14 @@ class AccuracyPanel:
         s.accuracy_plot = {"status": "idle", "src": "", "error": ""}
         s.accuracy_view = None
         s.accuracy_busy = False
+        s.accuracy_measuring = ""
+        s.accuracy_failed = ""
+        s.accuracy_retry = 0
         s.accuracy_zoom = False
+        self._plot_src = ""  # the last plot shown: it stays when measuring again fails
         s.change("accuracy_method")(lambda **_: self._on_pick("accuracy_method", check_method))
         s.change("accuracy_resolution")(lambda **_: self._on_pick("accuracy_resolution", check_resolution))
+        s.change("accuracy_retry")(lambda **_: self.retry())
 
     # -- lesson and scene
 
@@ -324,10 +356,22 @@ class AccuracyPanel:
         if self._running is None:
             self._start_images()
 
+    def retry(self) -> None:
+        """The page's "Try again": measure the plot again if it failed, and the images of the pick."""
+        if not self.active:
+            return
+        if self.state.accuracy_plot.get("status") == "failed":
+            self._start_plot()
+        if self.state.accuracy_failed:
+            self.state.accuracy_failed = ""
+            self._wanted = None  # the same pick again
+            self._request()
+
     def _start_images(self) -> None:
         request = self._wanted
         self._running = request
         self.state.accuracy_busy = True
+        self.state.accuracy_measuring = f"measuring {_pick_words(request)}…"
         self._when_done(submit(error_panel, *request), lambda future: self._images_done(request, future))
 
     def _images_done(self, request, future) -> None:
@@ -335,34 +379,43 @@ class AccuracyPanel:
         try:
             result = future.result()
         except Exception as exc:
-            log.error("error images for %s failed: %s", request, exc)
-            self.notify("error", f"Could not compute the error images for {request[0]}, {request[1]} segments: {exc}")
+            log.error("error images for %s failed: %r", request, exc)
+            if request == self._wanted:  # the last images stay; the page says why no new ones came
+                self.state.accuracy_failed = failure_words(exc, f"The error images for {_pick_words(request)}",
+                                                           kept=self.state.accuracy_view is not None)
         else:
             if request == self._wanted:
                 self.state.accuracy_view = result
+                self.state.accuracy_failed = ""
         if self._wanted != request and self.active:
             self._start_images()
         else:
             self.state.accuracy_busy = False
+            self.state.accuracy_measuring = ""
 
     # -- the plot
 
     def _start_plot(self) -> None:
         future = plot_future()
         if future.done() and future.exception() is None:
-            self.state.accuracy_plot = {"status": "ready", "src": future.result(), "error": ""}
+            self._plot_src = future.result()
+            self.state.accuracy_plot = {"status": "ready", "src": self._plot_src, "error": ""}
             return
-        self.state.accuracy_plot = {"status": "measuring", "src": "", "error": ""}
-        self._when_done(future, self._plot_done)
+        self.state.accuracy_plot = {"status": "measuring", "src": self._plot_src, "error": ""}
+        self._when_done(future, lambda done: self._plot_done(future, done))
 
-    def _plot_done(self, future) -> None:
+    def _plot_done(self, started, future) -> None:
+        """The plot's Future ``started`` is done, or given up (``future``, then failed with a timeout)."""
         try:
             src = future.result()
         except Exception as exc:
-            forget_plot(future)
-            log.error("the accuracy plot failed: %s", exc)
-            self.state.accuracy_plot = {"status": "failed", "src": "", "error": f"{type(exc).__name__}: {exc}"}
+            forget_plot(started)  # measured anew next time, even if the first is still running
+            log.error("the accuracy plot failed: %r", exc)
+            self.state.accuracy_plot = {"status": "failed", "src": self._plot_src,
+                                        "error": failure_words(exc, "The accuracy plot's four studies",
+                                                               kept=bool(self._plot_src))}
         else:
+            self._plot_src = src
             self.state.accuracy_plot = {"status": "ready", "src": src, "error": ""}
 
     # -- waiting without blocking the event loop
@@ -412,6 +465,11 @@ class AccuracyPanel:
         self._closed = True
         for task in list(self._tasks):
             task.cancel()
+
+
+def _pick_words(request) -> str:
+    """``Gouraud, 16 segments`` for a request (method, resolution, ...)."""
+    return f"{dict(METHODS).get(request[0], request[0])}, {request[1]} segments"
 
 
 def _timed_out(future) -> concurrent.futures.Future:

@@ -33,12 +33,24 @@ Which settings (keys are field paths; :func:`setting_paths`):
   (``geometry.kind``, ``geometry.resolution``); the view options
   ``view.term`` and ``view.mistake``;
 - the eye as ``camera.azimuth`` / ``elevation`` / ``distance`` (the eye
-  sliders, around the focal point in the lesson's frame): a turned view
-  comes back with the same eye, so the picture's shading and the readout
-  are the same. The roll, pan and view angle of a dragged view are not kept.
+  sliders, around the focal point in the lesson's frame); what the sliders
+  cannot say (a roll, a pan, an eye nearer than the distance slider goes)
+  as ``camera.eye`` / ``up`` / ``focal_point`` in file form, and
+  ``view.turned=true`` for a view turned by the mouse (shown through the
+  browser's camera as it is: its view angle is not widened to hold the
+  arrows), so the picture is framed the same.
 
-Slider values are written to a tenth of the slider's step, file-form numbers
-to :data:`FIELD_DECIMALS` decimals: short, and the same view after a reload.
+An address reopens the scene on screen, whatever changed it (a slider, an
+experiment, a pick, a turn, Reset): :meth:`ViewAddress.query` writes the
+settings in the widgets' form, reopens them as a fresh tab would
+(:func:`apply_settings`) and writes in file form, with every digit, each
+scene field that did not come back: a value beyond its slider's range (an
+experiment's intensity 5), a colour that is not an sRGB hex code, a cutoff
+of 120°, a turned camera's up vector. A slider's value is written with the
+digits it needs to read back (``0.8``, ``31.7``; more for an eye turned by
+the mouse), a file-form number as Python writes it back exactly.
+Reading, a value its widget refuses is tried in file form, which the scene
+checks (:func:`apply_settings`).
 """
 
 from __future__ import annotations
@@ -48,8 +60,9 @@ import re
 from urllib.parse import parse_qs, parse_qsl, urlencode
 
 from phonglab.app import wording
-from phonglab.app.control import ControlError
+from phonglab.app.control import Control, ControlError
 from phonglab.app.keys import state_key
+from phonglab.scene import SceneError, field_value, scene_to_dict
 
 #: state key: the query of the view the page shows (set by the server)
 QUERY_KEY = "url_query"
@@ -63,8 +76,10 @@ MAX_SETTINGS = 64
 MAX_SETTING_CHARS = 200
 #: longest key of one setting, in characters
 MAX_KEY_CHARS = 64
-#: decimals of a file-form number in the address
-FIELD_DECIMALS = 4
+#: a number read back within this fraction of its size (at least 1) is the same number
+SAME = 1e-9
+#: most decimals a slider's value is written with
+MAX_DECIMALS = 12
 
 #: widgets whose field the address carries in file form instead (or not at all)
 _PRESENTATION = re.compile(
@@ -75,8 +90,45 @@ _PRESENTATION = re.compile(
 _GREY = re.compile(r"material\.(ka|kd|ks|emission)")
 _HEX6 = re.compile(r"[0-9a-fA-F]{6}")
 _NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+#: scene fields an address may set in their file form (the scene checks the value)
+FILE_FIELDS = re.compile(
+    r"material\.(ka|kd|ks|shininess|emission|opacity)"
+    r"|lights\[\d+\]\.(position|direction|color|intensity|attenuation|cutoff|exponent|diffuse|specular)"
+    r"|camera\.(eye|focal_point|up|view_angle|infinite_viewer)"
+    r"|geometry\.(kind|resolution)|model|interpolation|two_sided|display|exposure|probe"
+    r"|area_light\.(position|edge_u|edge_v|color|intensity|method|samples)"
+)
 #: the default view options of a lesson (lesson_app resets to these)
 DEFAULT_OPTIONS = {"term": "color"}
+
+
+#: a view turned by the mouse is shown through the browser's camera as it is (its view angle not widened
+#: to hold the arrows, :meth:`phonglab.render.SceneView.update`): the address says so, the picture is the same
+TURNED = Control(
+    path="view.turned",
+    label="the view as turned by the mouse",
+    kind="switch",
+    read=lambda scene, options: bool(options.get("turned", False)),
+    write=lambda scene, value, options: (scene, {**options, "turned": True} if value
+                                         else {k: v for k, v in options.items() if k != "turned"}),
+    group="View",
+)
+#: settings only the address has (no widget on the page): path -> control
+ADDRESS_ONLY = {TURNED.path: TURNED}
+
+
+def turned(options: dict, value: bool) -> dict:
+    """View ``options`` saying whether the view shows a camera turned by the mouse (:data:`TURNED`)."""
+    return TURNED.write(None, value, options)[1]
+
+
+def _control(controls, path):
+    """The control of an address key: the page's, or one only the address has; None for an unknown key."""
+    try:
+        key = state_key(path)
+    except ValueError:
+        return None
+    return controls.by_key.get(key) or ADDRESS_ONLY.get(path)
 
 
 def lesson_key(entry) -> str:
@@ -125,7 +177,7 @@ def setting_paths(controls) -> list[str]:
     others = [c.path for c in controls.by_key.values()
               if not _PRESENTATION.fullmatch(c.path) and c.path not in widgets]
     seen, out = set(), []
-    for path in types + rest + others:
+    for path in types + rest + others + list(ADDRESS_ONLY):
         if path not in seen:
             seen.add(path)
             out.append(path)
@@ -147,16 +199,41 @@ def compact_number(x, decimals: int) -> str:
     return repr(r)
 
 
-def format_setting(control, value) -> str | None:
-    """A control's value as the address writes it; None when it cannot be written.
+def exact_number(x) -> str:
+    """``x`` in the fewest digits that read back as the same float (``0.35``, ``5``, ``0.30000000000000004``)."""
+    x = float(x)
+    if x == 0:
+        return "0"
+    if x.is_integer() and abs(x) < 1e15:
+        return str(int(x))
+    return repr(x)
 
-    A slider's value past its ends (the view zoomed in with the wheel beyond the eye's
-    distance slider, say) is written at the nearest end: an address this app writes is
-    one it reads back without a refusal.
+
+def _same_number(a, b) -> bool:
+    """Whether two numbers are the same to :data:`SAME` of their size (at least 1)."""
+    return abs(a - b) <= SAME * max(1.0, abs(a), abs(b))
+
+
+def slider_text(control, value) -> str | None:
+    """A slider's value in the fewest decimals (at least a tenth of its step) that read back as it.
+
+    None past the slider's ends: a value there is written in file form instead
+    (:meth:`ViewAddress.query`), the slider could not take it.
     """
+    value = float(value)
+    slack = 1e-9 * max(1.0, abs(control.high - control.low))
+    if not (control.low - slack <= value <= control.high + slack):
+        return None
+    for decimals in range(_decimals(control.step), MAX_DECIMALS + 1):
+        if _same_number(round(value, decimals), value):
+            break
+    return compact_number(value, decimals)
+
+
+def format_setting(control, value) -> str | None:
+    """A control's value as the address writes it; None when the widget cannot say it (see :func:`slider_text`)."""
     if control.kind == "slider":
-        value = min(max(float(value), control.low), control.high)
-        return compact_number(value, _decimals(control.step))
+        return slider_text(control, value)
     if control.kind == "switch":
         return "true" if value else "false"
     if control.kind == "color":
@@ -167,20 +244,61 @@ def format_setting(control, value) -> str | None:
 
 
 def _format_plain(path, value) -> str | None:
-    """A file-form value: numbers joined by commas, a grey coefficient as one number."""
+    """A file-form value, exactly: numbers joined by commas, a grey coefficient as one number."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, (int, float)):
-        return compact_number(value, FIELD_DECIMALS)
+        return exact_number(value)
     if isinstance(value, str):
         return value
     if isinstance(value, (list, tuple)) and value and all(
             isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
-        parts = [compact_number(v, FIELD_DECIMALS) for v in value]
+        parts = [exact_number(v) for v in value]
         if _GREY.fullmatch(path) and len(set(parts)) == 1:
             return parts[0]
         return ",".join(parts)
     return None
+
+
+def _fields(data, prefix=""):
+    """``{path: value}`` of the file-form fields a scene's dictionary holds (lights and tables walked into)."""
+    out = {}
+    for key, value in data.items():
+        path = f"{prefix}.{key}" if prefix else key
+        if key == "lights" and not prefix:
+            for i, light in enumerate(value):
+                out.update(_fields(light, f"lights[{i}]"))
+        elif isinstance(value, dict):
+            out.update(_fields(value, path))
+        else:
+            out[path] = value
+    return out
+
+
+def _same_value(a, b) -> bool:
+    if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
+        return len(a) == len(b) and all(_same_value(x, y) for x, y in zip(a, b))
+    if isinstance(a, bool) or isinstance(b, bool) or not all(isinstance(x, (int, float)) for x in (a, b)):
+        return a == b
+    return _same_number(float(a), float(b))
+
+
+def differing_fields(scene, other) -> list[str]:
+    """The file-form fields (:data:`FILE_FIELDS`) in which ``other`` is not ``scene``, to :data:`SAME`."""
+    a, b = _fields(scene_to_dict(scene)), _fields(scene_to_dict(other))
+    return [path for path in a if FILE_FIELDS.fullmatch(path)
+            and (path not in b or not _same_value(a[path], b[path]))]
+
+
+def _stands_for(field: str, setting: str) -> bool:
+    """Whether the widget ``setting`` presents the file-form ``field`` (a light's azimuth its position)."""
+    if field in ("camera.eye", "camera.focal_point"):
+        return setting in ("camera.azimuth", "camera.elevation", "camera.distance")
+    m = re.fullmatch(r"(lights\[\d+\])\.(position|direction|cutoff)", field)
+    if m:
+        names = ("no_cone",) if m.group(2) == "cutoff" else ("azimuth", "elevation", "distance")
+        return setting in {f"{m.group(1)}.{name}" for name in names}
+    return False
 
 
 _UNREAD = object()
@@ -200,6 +318,7 @@ class ViewAddress:
         self._reference_key = None
         self._reference = None
         self._defaults: dict = {}
+        self._reopened: dict = {}  # (lesson scene id, settings) -> the scene they open: the last few kept
 
     def _reference_scene(self, entry, controls, types) -> object:
         """The lesson's scene with the light ``types`` (``[(path, text)]``) applied: what the other settings differ from."""
@@ -226,14 +345,15 @@ class ViewAddress:
         return self._defaults[key]
 
     def settings(self, entry, scene, options, controls, values=None) -> list[tuple[str, str]]:
-        """``(path, text)`` for every setting of ``scene``/``options`` that differs from the lesson's.
+        """``(path, text)`` for every widget setting of ``scene``/``options`` that differs from the lesson's.
 
         ``values`` (state key -> widget value, :meth:`ControlSet.values`) saves reading them again.
+        A value its widget cannot say is left out (:meth:`query` writes its field instead).
         """
         current = []
         for path in setting_paths(controls):
             key = state_key(path)
-            control = controls.by_key.get(key)
+            control = _control(controls, path)
             if control is None:
                 continue
             try:
@@ -258,13 +378,52 @@ class ViewAddress:
         return types + [(path, text) for path, key, control, text in current
                         if not path.endswith(".type") and text != self._default(key, control, reference)]
 
+    def reopen(self, entry, settings, controls):
+        """What a fresh tab opens for ``settings``: ``(scene, options, problems)`` (the last few are kept)."""
+        key = (id(entry.scene), tuple(settings))
+        if key not in self._reopened:
+            scratch = type(controls)(controls.frame, controls.lesson_paths, controls.extra)
+            self._reopened[key] = apply_settings(settings, entry.scene, dict(DEFAULT_OPTIONS), scratch)
+            while len(self._reopened) > 8:
+                self._reopened.pop(next(iter(self._reopened)))
+        return self._reopened[key]
+
+    def faithful(self, entry, scene, options, controls, settings) -> list[tuple[str, str]]:
+        """``settings`` with, in file form, each scene field they do not bring back.
+
+        The settings are reopened as a fresh tab would (:meth:`reopen`); a field
+        that comes back otherwise is written with every digit, in place of a
+        widget setting of the same path or after the rest, and the widget
+        settings that stand for it (a light's azimuth for its position) go.
+        Three rounds at most: the field values are exact, so one usually does.
+        """
+        settings = list(settings)
+        for _ in range(3):
+            reopened, _, problems = self.reopen(entry, settings, controls)
+            missing = differing_fields(scene, reopened)
+            if not missing:
+                break
+            for path in missing:
+                text = _format_plain(path, field_value(scene, path))
+                if text is None:
+                    continue
+                settings = [(p, t) for p, t in settings if not _stands_for(path, p)]
+                at = [i for i, (p, _) in enumerate(settings) if p == path]
+                if at:
+                    settings[at[0]] = (path, text)
+                else:
+                    settings.append((path, text))
+        return settings
+
     def query(self, entry, scene, options, controls, values=None) -> str:
         """``?lesson=…&path=value…`` for the view on screen (``entry``'s lesson, ``scene``, view ``options``).
 
         ``controls`` is the tab's :class:`~phonglab.app.controls.ControlSet`, fitted to ``scene``;
-        ``values`` its widget values for ``scene``, if already read.
+        ``values`` its widget values for ``scene``, if already read. Opening the
+        address gives ``scene`` and the view options back (:meth:`faithful`).
         """
-        settings = self.settings(entry, scene, options, controls, values)[:MAX_SETTINGS]
+        settings = self.settings(entry, scene, options, controls, values)
+        settings = self.faithful(entry, scene, options, controls, settings)[:MAX_SETTINGS]
         while True:  # an address this app writes is one it reads back: within the bounds
             query = "?" + urlencode([("lesson", lesson_key(entry))] + settings, safe=",[]")
             if len(query) <= MAX_QUERY_CHARS or not settings:
@@ -329,13 +488,40 @@ def parse_setting(control, text: str):
     return parts[0] if len(parts) == 1 else parts
 
 
+def file_control(path: str) -> Control:
+    """A control that sets the scene field ``path`` in its file form (the scene checks the value)."""
+
+    def read(scene, options):
+        return field_value(scene, path)
+
+    def write(scene, value, options):
+        return scene.replace(path, value), options
+
+    return Control(path=path, label=path, kind="value", read=read, write=write)
+
+
+def _has_field(scene, path: str) -> bool:
+    """Whether ``path`` is a file-form field an address may set (:data:`FILE_FIELDS`) and ``scene`` has."""
+    if not FILE_FIELDS.fullmatch(path):
+        return False
+    try:
+        field_value(scene, path)
+    except SceneError:
+        return False
+    return True
+
+
 def apply_settings(pairs, scene, options, controls):
     """Apply address settings ``[(path, text)]`` to ``scene`` and view ``options`` through the page's controls.
 
     ``controls`` is a :class:`~phonglab.app.controls.ControlSet` of this
     lesson that only this call uses: it is fitted to each new scene, so a
     light's type applies before its cone. Light types are applied first,
-    then the rest in address order.
+    then the widget settings in address order, then the file-form fields
+    (:data:`FILE_FIELDS`) together, as one edit the scene checks once (a
+    camera's eye and up vector may make sense only together). A value its
+    widget refuses (an intensity of 5, past the slider) is tried as the
+    field's file form: the address takes what a lesson file takes.
 
     Returns
     -------
@@ -344,21 +530,51 @@ def apply_settings(pairs, scene, options, controls):
     """
     options = dict(options)
     problems = []
+    fields = []  # (path, text, the widget's refusal or None)
     ordered = sorted(pairs, key=lambda pair: not pair[0].endswith(".type"))  # stable: address order kept
     for path, text in ordered:
         controls.update(scene)
-        try:
-            control = controls.by_key.get(state_key(path))
-        except ValueError:
-            control = None
-        if control is None or path == "lesson":
+        control = _control(controls, path)
+        refused = None
+        if control is not None and control.kind != "value" and path != "lesson":
+            try:
+                scene, options = control.apply(scene, parse_setting(control, text), options)
+                continue
+            except ControlError as exc:
+                refused = (control, exc)
+        if _has_field(scene, path):
+            fields.append((path, text, refused))
+        elif refused is not None:
+            problems.append(wording.refusal(path, text, *refused))
+        else:
             problems.append(wording.unknown_setting(path, text))
-            continue
-        try:
-            scene, options = control.apply(scene, parse_setting(control, text), options)
-        except ControlError as exc:
-            problems.append(wording.refusal(path, text, control, exc))
+    if fields:
+        scene, refusals = _apply_fields(scene, fields)
+        problems += refusals
     return scene, options, problems
+
+
+def _apply_fields(scene, fields):
+    """The file-form ``fields`` ``[(path, text, refusal)]`` applied together; one by one if the scene refuses that.
+
+    Returns the scene and a sentence per refused field (the scene's rule: what a lesson file takes).
+    """
+    controls = [(path, text, file_control(path), refused) for path, text, refused in fields]
+    try:
+        values = [(path, control.check(parse_setting(control, text))) for path, text, control, _ in controls]
+        return scene.replace_many(values), []
+    except (ControlError, SceneError, ValueError, TypeError, ArithmeticError):
+        pass
+    problems = []
+    for path, text, control, refused in controls:
+        try:
+            scene, _ = control.apply(scene, parse_setting(control, text), {})
+        except ControlError as exc:
+            # a slider's range is not the field's: the field's rule; a select's choices or a colour's form are
+            if refused is not None and refused[0].kind != "slider":
+                control, exc = refused
+            problems.append(wording.refusal(path, text, control, exc))
+    return scene, problems
 
 
 def notice(problems) -> str:

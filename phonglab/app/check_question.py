@@ -21,7 +21,7 @@ from trame.widgets import vuetify3 as v3
 from phonglab.app import text
 from phonglab.scene.check import MAX_ANSWER_CHARS, judge
 
-__all__ = ["CheckPanel", "initial_state", "build", "REVEAL_IF"]
+__all__ = ["CheckPanel", "initial_state", "build", "verdict_html", "REVEAL_IF"]
 
 #: the condition under which the page offers the explanation: no check question, or one answered
 REVEAL_IF = "!check || check_verdict"
@@ -67,9 +67,21 @@ class CheckPanel:
         except ValueError as exc:
             self.state.check_verdict = {"right": False, "invalid": True, "html": text.inline(_plain(exc))}
             return
-        lead = "Right." if verdict.right else "Not quite."
-        self.state.check_verdict = {"right": verdict.right, "invalid": False,
-                                    "html": f"<b>{lead}</b> {text.inline(verdict.feedback)}"}
+        self.state.check_verdict = {"right": verdict.right, "invalid": False, "html": verdict_html(verdict)}
+
+
+def verdict_html(verdict) -> str:
+    """The feedback led by its verdict, in bold, said once.
+
+    "Right." or "Not quite." goes before the lesson's feedback, unless the
+    feedback begins with the verdict itself ("Right: cos 60° = 1/2."): then
+    that word is the bold lead, and is not said twice.
+    """
+    word = "Right" if verdict.right else "Not quite"
+    feedback = verdict.feedback.strip()
+    if feedback.startswith(word) and feedback[len(word):len(word) + 1] in (":", ".", ",", "!", " ", ""):
+        return f"<b>{word}</b>{text.inline(feedback[len(word):])}"
+    return f"<b>{word}.</b> {text.inline(feedback)}"
 
 
 def _plain(exc: ValueError) -> str:

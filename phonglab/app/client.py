@@ -159,13 +159,19 @@ class ArrowLetters(AbstractElement):
         The state binding, e.g. ``("arrow_tips", [])``: see :func:`arrow_tips`.
     hidden : tuple
         A binding that hides the letters (pixel mode's image carries its own).
+    camera : tuple
+        A binding to the camera the tips were made for (``{"position": [x, y, z], "view_angle": degrees}``).
+    covered : tuple
+        A binding that is true while the core's picture covers the view: the
+        letters then show only while the browser's camera is ``camera``, the
+        camera of that picture (its numbers and tips come with it).
     """
 
     def __init__(self, **kwargs):
         super().__init__("phonglab-letters", **kwargs)
         if self.server:
             self.server.enable_module(MODULE)
-        self._attr_names += ["tips", "hidden"]
+        self._attr_names += ["tips", "hidden", "camera", "covered"]
 
 
 def arrow_tips(tips, legend, hidden=()) -> list[dict]:

@@ -112,6 +112,7 @@ class LessonApp(TrameApp):
         self._busy = False  # a control's change is being applied
         self._view_ms = (0.0, 0.0)  # wall and CPU ms of a control's update before its deferred panels
         self._camera_moved = False
+        self._camera_shown = None  # the view's camera as last sent to the browser
         self._plan = (None, None)  # (scene, plan(scene)): planned once for the view's shading and the panels
         self._pushed = (None, None)  # the last colour push and its colours (a turn sends only what changed)
         self.state[client.SHOWN_KEY] = None  # the hash of the pushed colours the browser shows (it sets it)
@@ -153,6 +154,7 @@ class LessonApp(TrameApp):
             check_answer=self.check.submit,
             student_code=self.student_code.submit if allow_student_code else None,
             camera_move=self.on_camera_move,
+            view_ready=self._on_view_ready,
         ))
         self.open_lesson(first)
 
@@ -255,15 +257,24 @@ class LessonApp(TrameApp):
     # ------------------------------------------------------------------
     # the scene on screen
 
-    def _show_scene(self, scene, *, new_lesson=False, colours_only=False, defer_panels=False) -> None:
+    def _show_scene(self, scene, *, new_lesson=False, colours_only=False, defer_panels=False,
+                    turned=False) -> None:
         """Make ``scene`` the one on screen and refresh everything that depends on it.
 
         With ``defer_panels`` the readout, verdict and widgets are refreshed a
         moment later, so the view's update leaves for the browser first.
+        ``turned``: the scene's camera is a view turned by the mouse (an
+        address's ``view.turned``), shown with its view angle as it is.
         """
         old = self.scene
         self.scene = scene
-        self.view.update(scene)
+        if old is None or old.camera != scene.camera:  # the view angle is the camera's, or widened
+            self.options = address.turned(self.options, turned)
+            self._camera_moved = self._camera_moved or turned
+        if turned:
+            self.view.update(scene, keep_view_angle=True)
+        else:
+            self.view.update(scene)
         if new_lesson and self._camera_moved:
             # the browser turned the view: back to the lesson's camera
             self.view.reset_camera()
@@ -276,8 +287,7 @@ class LessonApp(TrameApp):
         else:
             self.html_view.update()
             self._pushed = (None, None)  # the browser's colours now come from this synchronisation
-            if new_lesson or (old is not None and "camera" in Scene.changes(old, scene)):
-                self.html_view.push_camera()
+            self._send_camera(force=new_lesson or (old is not None and "camera" in Scene.changes(old, scene)))
         self._refresh_pixels()
         if defer_panels:
             self._later.ask("panels")
@@ -353,8 +363,9 @@ class LessonApp(TrameApp):
             self.pictures.drop()  # a picture still being made is not shown
             self.state.pixel_src = ""
             return
-        # the VTK part here, the NumPy part and the PNG in a thread; the newest scene's picture comes last
-        self.pictures.request(lambda: pixel_job.prepare(self.view, annotate=True))
+        # the VTK part here, the NumPy part and the PNG in a thread; the newest scene's picture comes last,
+        # and the readout and letters for its eye with it
+        self.pictures.request(lambda: pixel_job.prepare(self.view, annotate=True), along=self._probe_panels)
 
     def _planned(self, scene):
         """``plan(scene)``, made once per scene shown (the view's shading and the panels share it)."""
@@ -370,11 +381,9 @@ class LessonApp(TrameApp):
         verdict = self._planned(scene)
         s.plan_computed = [{"effect": e, "reason": r} for e, r in verdict.computed]
         s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
-        # probe readout and vector legend
-        point, normal = self.view.probe
-        s.readout = probe_readout(scene, point, normal, self.view.light_index, mistake=self.view.mistake)
-        s.legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
-        s.arrow_tips = client.arrow_tips(self.view.arrow_tips(), s.legend, hidden=self.view.hidden_letters())
+        # probe readout and vector legend; over the core's picture they come with it (_refresh_pixels)
+        if not s.pixel_mode:
+            s.update(self._probe_panels())
         self.accuracy.follow(scene)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)
@@ -388,6 +397,20 @@ class LessonApp(TrameApp):
                 if key not in self._watched:
                     self._watched.add(key)
                     s.change(key)(self._watcher(key))
+
+    def _probe_panels(self) -> dict:
+        """The readout, the legend and the letters' tips for the scene and eye the view has now."""
+        scene = self.scene
+        point, normal = self.view.probe
+        camera = self.view.camera_state()
+        legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
+        return {
+            "readout": probe_readout(scene, point, normal, self.view.light_index, mistake=self.view.mistake),
+            "legend": legend,
+            "arrow_tips": client.arrow_tips(self.view.arrow_tips(), legend, hidden=self.view.hidden_letters()),
+            # the camera the tips and readout are for (and, in pixel mode, the picture that comes with them)
+            "arrow_camera": {"position": list(camera.eye), "view_angle": camera.view_angle},
+        }
 
     def _sync_control_values(self) -> dict:
         """Write every control's value for the current scene into the state; returns them (state key -> value)."""
@@ -510,6 +533,7 @@ class LessonApp(TrameApp):
                 self.scene = scene
                 self.view.update(scene, keep_view_angle=True, defer_glyphs=not final, scene_plan=self._planned(scene))
                 self._camera_moved = True
+                self.options = address.turned(self.options, True)
                 if scene.interpolation != "pixel":
                     self._push_colours(change=True)
                 record_lap("turn", *clock.split())  # a re-shade (not a camera already shown)
@@ -539,6 +563,22 @@ class LessonApp(TrameApp):
         self.notify("error", f"Could not {what}: {type(exc).__name__}: {exc}")
         self.state.flush()
 
+    def _send_camera(self, force: bool = False) -> None:
+        """Send the view's camera to the browser when it moved since last sent (or ``force``).
+
+        Its angle is widened to hold the arrows and markers for the window's size
+        (:meth:`SceneView.update`): the browser's letters meet the arrows of the core's picture.
+        """
+        shown = self.view.camera_state()
+        if force or shown != self._camera_shown:
+            self.html_view.push_camera()
+        self._camera_shown = shown
+
+    def _on_view_ready(self) -> None:
+        """The page's 3D view is mounted (it waits for the lesson its address names): send it the view's camera."""
+        if self.view is not None and self.scene is not None:
+            self._send_camera(force=True)
+
     def _on_view_size(self, view_size=None, **_) -> None:
         """The view's size in the browser: the server window (pixel mode, framing) follows it."""
         try:
@@ -551,6 +591,8 @@ class LessonApp(TrameApp):
         width, height = min(width, MAX_PIXEL_SIDE), min(height, MAX_PIXEL_SIDE)
         if self.view.size != (width, height):
             self.view.set_size((width, height))
+            if self.scene is not None:
+                self._send_camera()  # the angle that holds the arrows depends on the window's shape
             if self.scene is not None and self.scene.interpolation == "pixel":
                 self._refresh_pixels()
 
@@ -573,18 +615,24 @@ class LessonApp(TrameApp):
             self.notify("error", f"Export failed: {exc}")
 
     def _on_address(self, **_) -> None:
-        """The page was opened with an address: open the lesson it names, then apply its settings.
+        """The page was opened with an address: open the lesson it names, apply its settings, show the page.
 
         A bad lesson name, a refused value or an unknown key gives a notice; the rest applies.
+        The page shows no lesson until then (``page_ready``): a link's lesson is the first one drawn.
         """
         query = self.state[address.REQUEST_KEY]
-        index, problem = address.lesson_index(query, self.entries)
-        if problem:
-            self.notify("warning", problem)
+        if query is None:  # the key's first value, not the page's: the page sends a string, empty or not
             return
-        if index is not None and index != self.index:
-            self.open_lesson(index)
-        self._apply_address(query)
+        try:
+            index, problem = address.lesson_index(query, self.entries)
+            if problem:
+                self.notify("warning", problem)
+                return
+            if index is not None and index != self.index:
+                self.open_lesson(index)
+            self._apply_address(query)
+        finally:
+            self.state.page_ready = True
 
     @_guarded
     def _apply_address(self, query) -> None:
@@ -596,7 +644,7 @@ class LessonApp(TrameApp):
             problems += refused
             if scene is not self.scene or options != self.options:
                 self.options = options
-                self._show_scene(scene)
+                self._show_scene(scene, turned=bool(options.get("turned")))
         if problems:
             self.notify("warning", address.notice(problems))
 

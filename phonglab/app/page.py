@@ -25,6 +25,7 @@ from typing import Callable
 from trame.ui.html import DivLayout
 from trame.ui.vuetify3 import VAppLayout
 from trame.widgets import client, html
+from trame_client.widgets.core import AbstractElement
 from trame.widgets import vtk as vtk_widgets
 from trame.widgets import vuetify3 as v3
 
@@ -37,6 +38,7 @@ from phonglab.app.control import Control
 from phonglab.app.controls import TERMS
 from phonglab.app import truth_ui
 from phonglab.app.slider_access import slider_attributes
+from phonglab.app.wording import spoken_label
 
 
 def initial_state() -> dict:
@@ -58,12 +60,15 @@ def initial_state() -> dict:
         "plan_skipped": [],
         "legend": [],
         "arrow_tips": [],
+        "arrow_camera": None,
         "notice": None,
         "phonglab_download": None,  # a figure on its way to the browser (app/download.py)
         "url_query": "",  # the address of the view shown (app/address.py)
         "url_request": None,  # the address the page was opened with
+        "page_ready": False,  # the lesson the address names is open: until then the page shows it is loading
         "view_colors": None,
         "pixel_src": "",
+        "pixel_pending": False,  # a newer per-pixel picture is being made (app/pixel_picture.py)
         "pixel_mode": False,
         "pixel_hint": "",
         "control_values": {},
@@ -95,11 +100,15 @@ class Handlers:
     check_answer: Callable | None = None  #: ``(answer)``: the check question's Check button
     student_code: Callable | None = None  #: ``(code)``: "Grade my code"; None: no panel (the default)
     camera_move: Callable | None = None  #: ``(camera)``: the browser's camera during a turn or zoom
+    view_ready: Callable | None = None  #: ``()``: the browser's 3D view is on the page (send it the camera)
+
+
+#: the trigger the page's 3D view calls once it is on the page (``www/phonglab.js``)
+VIEW_READY = "phonglab_view_ready"
 
 
 def address_element():
     """``<phonglab-address :query="url_query">``: keeps the address bar on the lesson (``www/phonglab.js``)."""
-    from trame_client.widgets.core import AbstractElement
 
     class Address(AbstractElement):
         def __init__(self, **kwargs):
@@ -107,6 +116,14 @@ def address_element():
             self._attr_names += ["query"]
 
     return Address(query=("url_query", ""))
+
+
+class NoticeTimer(AbstractElement):
+    """``<phonglab-notice-timer :notice="notice">``: an "info" or "success" notice goes after a few seconds."""
+
+    def __init__(self, **kwargs):
+        super().__init__("phonglab-notice-timer", **kwargs)
+        self._attr_names += ["notice"]
 
 
 def build_page(server, render_window, handlers: Handlers):
@@ -127,6 +144,8 @@ def build_page(server, render_window, handlers: Handlers):
     """
     page = _Page(server, render_window, handlers)
     page.build()
+    if handlers.view_ready is not None:
+        server.controller.trigger(VIEW_READY)(lambda *_, **__: handlers.view_ready())
     return page.layout, page.view
 
 
@@ -144,24 +163,26 @@ class _Page:
         with VAppLayout(self.server, full_height=True) as self.layout:
             self.layout.root.classes = "phonglab"
             with v3.VAppBar(density="compact", elevation=1, classes="phonglab-bar"):
-                v3.VAppBarNavIcon(click="drawer = !drawer", classes="phonglab-menu")
+                v3.VAppBarNavIcon(click="drawer = !drawer", classes="phonglab-menu", title="Lesson list",
+                                  aria_label="Lesson list", __properties=[("aria_label", "aria-label")])
                 html.Div("phonglab", classes="phonglab-brand")
+                # until the lesson the address names is open, no lesson's title (the first one's, say)
                 html.Div(
-                    "{{ lesson_number != null ? lesson_number + ' · ' : '' }}{{ lesson_title }}",
+                    "{{ !page_ready ? '' : (lesson_number != null ? lesson_number + ' · ' : '') + lesson_title }}",
                     classes="phonglab-lesson-title",
                 )
                 v3.VSpacer()
                 v3.VBtn("Reset", prepend_icon="mdi-restore", variant="text", click=self.handlers.reset_lesson,
-                        disabled=("lesson_errors.length > 0",), classes="phonglab-reset")
+                        disabled=("!page_ready || lesson_errors.length > 0",), classes="phonglab-reset")
                 v3.VBtn("Export PNG", prepend_icon="mdi-image-outline", variant="tonal", color="primary",
-                        click=self.handlers.export_figure, disabled=("lesson_errors.length > 0",),
+                        click=self.handlers.export_figure, disabled=("!page_ready || lesson_errors.length > 0",),
                         loading=("export_busy",),  # the figure is being made in a worker (app/download.py)
                         classes="phonglab-export ml-2 mr-2")
                 # more figures to download: the per-term figure and the mistake comparison
                 with v3.VMenu():
                     with html.Template(v_slot_activator="{ props }"):
                         v3.VBtn(icon="mdi-menu-down", v_bind="props", variant="text", density="comfortable",
-                                disabled=("lesson_errors.length > 0",), title="More figures to download",
+                                disabled=("!page_ready || lesson_errors.length > 0",), title="More figures to download",
                                 classes="phonglab-export-more mr-2")
                     with v3.VList(density="compact"):
                         download.export_menu_items(self.handlers.export_figure)
@@ -183,10 +204,14 @@ class _Page:
                         with v3.Template(v_slot_append=True):
                             v3.VIcon("mdi-alert-circle-outline", color="error", v_if="!item.ok", size="small")
             with v3.VMain(classes="phonglab-main"):
-                with html.Div(classes="phonglab-grid"):
+                # the page's lesson, with its address's settings, from its first drawn frame: nothing before
+                with html.Div(classes="phonglab-grid", v_if="page_ready"):
                     self._lesson_column()
                     self._view_column()
                     self._control_column()
+                with html.Div(v_else=True, classes="phonglab-loading", role="status"):
+                    v3.VProgressCircular(indeterminate=True, size=28, width=3, color="primary")
+                    html.Span("Opening the lesson…")
 
     def _lesson_column(self):
         with html.Div(classes="phonglab-text"):
@@ -242,6 +267,23 @@ class _Page:
 
     def _view_column(self):
         with html.Div(classes="phonglab-centre"):
+            # the legend and the view's tools in a bar above the picture: nothing of the page covers the scene
+            with html.Div(classes="phonglab-viewbar", v_if="!lesson_errors.length"):
+                with html.Div(classes="phonglab-legend"):
+                    with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
+                                   title=("v.meaning",)):
+                        html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
+                        html.B("{{ v.letter }}")
+                with html.Div(classes="phonglab-tools"):
+                    with v3.VBtnToggle(v_model=("view__term",), mandatory=True, density="compact",
+                                       variant="outlined", divided=True, classes="phonglab-term-toggle"):
+                        for value, title in TERMS:
+                            v3.VBtn(title.replace(" terms", ""), value=value, size="small",
+                                    classes=f"phonglab-term-{value}")
+                    with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
+                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
+                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
+                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
             with html.Div(classes="phonglab-view"):
                 with vtk_widgets.VtkLocalView(
                     self.render_window,
@@ -255,32 +297,22 @@ class _Page:
                                "[trame.refs.phonglab_view.getCamera()]"),
                 ) as self.view:
                     ColorPush(push=("view_colors",), expect=("!pixel_mode",), picture=("pixel_src",))
-                    ArrowLetters(tips=("arrow_tips", []))  # in every mode, over the pixel image too
+                    # in every mode; over the core's picture, only while the view's eye is the picture's
+                    ArrowLetters(tips=("arrow_tips", []), camera=("arrow_camera", None), covered=("pixel_mode",))
                 client.SizeObserver("view_size")
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
-                    html.Img(src=("pixel_src",), alt="per-pixel shading by the core")
+                    # decoded with the page's update: the picture shows in the frame its readout does
+                    html.Img(src=("pixel_src",), alt="per-pixel shading by the core", decoding="sync")
+                    html.Div("updating the picture…", v_if="pixel_pending", role="status",
+                             classes="phonglab-pixel-updating")
                 truth_ui.wrong_banner()
-                with html.Div(classes="phonglab-legend", v_if="legend.length"):
-                    with html.Span(v_for="v in legend", key="v.letter", classes="phonglab-chip",
-                                   title=("v.meaning",)):
-                        html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
-                        html.B("{{ v.letter }}")
-                with html.Div(classes="phonglab-tools", v_if="!lesson_errors.length"):
-                    with v3.VBtnToggle(v_model=("view__term",), mandatory=True, density="compact",
-                                       variant="outlined", divided=True, classes="phonglab-term-toggle"):
-                        for value, title in TERMS:
-                            v3.VBtn(title.replace(" terms", ""), value=value, size="small",
-                                    classes=f"phonglab-term-{value}")
-                    with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
-                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
-                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
-                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
                 html.Div(
                     "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you let go' : "
                     "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
                     "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
                     classes="phonglab-hint",
                 )
+                self._notice()
             self._accuracy_panel()
             self._readout_panel()
 
@@ -301,9 +333,12 @@ class _Page:
                 html.Span("segments", classes="phonglab-note")
             v3.VProgressLinear(indeterminate=True, v_if="accuracy_busy", color="primary", height=2,
                                classes="phonglab-accuracy-busy")
-            html.Div("Measuring… (the first picture takes a few seconds)", v_if="!accuracy_view",
+            html.Div("{{ accuracy_measuring }}", v_if="accuracy_busy && accuracy_view",
+                     classes="phonglab-note phonglab-accuracy-measuring-images")
+            self._try_again("accuracy_failed", "accuracy_failed", "phonglab-accuracy-images-failed")
+            html.Div("Measuring… (the first picture takes a few seconds)", v_if="!accuracy_view && !accuracy_failed",
                      classes="phonglab-note phonglab-accuracy-wait")
-            with html.Div(v_else=True, classes="phonglab-accuracy-images"):
+            with html.Div(v_if="accuracy_view", classes="phonglab-accuracy-images"):
                 for key, caption in (
                     ("render", "'render: ' + accuracy_view.method + ', ' + accuracy_view.resolution + ' segments'"),
                     ("reference", "'exact sphere'"),
@@ -327,14 +362,37 @@ class _Page:
             with html.Div(v_if="accuracy_plot.status === 'measuring'", classes="phonglab-accuracy-measuring"):
                 v3.VProgressCircular(indeterminate=True, size=18, width=2, color="primary")
                 html.Span("measuring… the four studies take about five seconds", classes="phonglab-note")
-            html.Div("Could not measure: {{ accuracy_plot.error }}", v_if="accuracy_plot.status === 'failed'",
-                     classes="phonglab-note phonglab-accuracy-failed")
-            html.Img(v_if="accuracy_plot.status === 'ready'", src=("accuracy_plot.src",),
+            self._try_again("accuracy_plot.status === 'failed'", "accuracy_plot.error", "phonglab-accuracy-failed")
+            html.Img(v_if="accuracy_plot.src", src=("accuracy_plot.src",),
                      alt="error against time for the four studies", title="click to enlarge",
                      click="accuracy_zoom = true", classes="phonglab-accuracy-plot")
             with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw"):
                 with v3.VCard(click="accuracy_zoom = false"):
                     html.Img(src=("accuracy_plot.src",), classes="phonglab-accuracy-plot-large")
+
+    @staticmethod
+    def _notice():
+        """The page's notice, over the foot of the view: it covers none of the controls, and a notice that
+        only informs ("Applied: …") goes by itself after a few seconds (``www/phonglab.js``)."""
+        with v3.VAlert(
+            v_if="notice",
+            type=("notice.kind",),
+            variant="tonal",
+            density="compact",
+            closable=True,
+            classes="phonglab-notice",
+            click_close="notice = null",
+        ):
+            html.Span("{{ notice.text }}")
+        NoticeTimer(notice=("notice",))
+
+    @staticmethod
+    def _try_again(condition: str, words: str, css: str):
+        """Why a study did not finish (state expression ``words``), and a button that measures again."""
+        with html.Div(v_if=condition, role="status", classes=f"phonglab-note phonglab-try-again {css}"):
+            html.Span(f"{{{{ {words} }}}}")
+            v3.VBtn("Try again", size="small", variant="tonal", color="primary", prepend_icon="mdi-refresh",
+                    click="accuracy_retry = accuracy_retry + 1", classes="phonglab-try-again-btn ml-2")
 
     def _readout_panel(self):
         with html.Div(classes="phonglab-readout", v_if="readout && !accuracy"):
@@ -370,16 +428,6 @@ class _Page:
 
     def _control_column(self):
         with html.Div(classes="phonglab-side"):
-            with v3.VAlert(
-                v_if="notice",
-                type=("notice.kind",),
-                variant="tonal",
-                density="compact",
-                closable=True,
-                classes="phonglab-notice mb-3",
-                click_close="notice = null",
-            ):
-                html.Span("{{ notice.text }}")
             client.ServerTemplate(name=CONTROLS_TEMPLATE)
             with html.Div(classes="phonglab-plan", v_if="!lesson_errors.length"):
                 html.Div("What the planner computes", classes="phonglab-section")
@@ -455,7 +503,8 @@ def _widget(control: Control, suffix: str = "") -> None:
     elif control.kind == "color":
         with html.Div(classes=css + " phonglab-color-row"):
             html.Span(v_html=(label,), classes="phonglab-label")
-            html.Input(type="color", value=(key,), change=f"{key} = $event.target.value", classes="phonglab-color")
+            html.Input(type="color", value=(key,), change=f"{key} = $event.target.value", classes="phonglab-color",
+                       aria_label=spoken_label(control), __properties=[("aria_label", "aria-label")])
     elif control.kind == "select":
         with html.Div(classes=css):
             v3.VSelect(

@@ -26,6 +26,12 @@ What :class:`PixelPicture` promises:
   mode (:meth:`~PixelPicture.drop`) is not shown.
 * **without a running event loop** (scripts, tests) the picture is made at
   once, in the caller's thread, as it always was.
+* **what belongs to the picture comes with it**. A request may bring
+  ``along`` state (the readout, the letters' tips): computed for the view
+  the job is prepared for, in the same moment, and set in the same state
+  update as the picture, so the page never shows numbers for an eye its
+  picture does not show. :data:`PENDING_KEY` is True while a picture newer
+  than the one shown is being made (the page says the picture is updating).
 * a failure in the thread is logged with its traceback; the tab gets a
   one-line notice, without it.
 """
@@ -44,6 +50,8 @@ log = logging.getLogger(__name__)
 
 #: the state key the page's picture is read from
 STATE_KEY = "pixel_src"
+#: the state key that is True while a newer picture than the one shown is being made
+PENDING_KEY = "pixel_pending"
 
 
 def picture_url(job) -> str:
@@ -69,6 +77,8 @@ class PixelPicture:
     ----------
     serial : int
         Counts requests and drops: a job's picture is shown only if no drop came after it started.
+    pending : bool
+        A newer picture than the one shown is being made (also in the state, :data:`PENDING_KEY`).
     """
 
     def __init__(self, state, notify):
@@ -77,16 +87,18 @@ class PixelPicture:
         self.serial = 0
         self._dropped = 0  # the serial of the last drop: pictures started before it are not shown
         self._running = None  # the job in its thread (an asyncio future), or None
-        self._next = None  # the newest request made while a job runs: the callable that prepares it
+        self._next = None  # the newest request made while a job runs: (prepare, along)
         self._closed = False
+        self.pending = False  # what PENDING_KEY says
+        state[PENDING_KEY] = False
 
     @property
     def busy(self) -> bool:
         """True while a job is being finished in its thread."""
         return self._running is not None
 
-    def request(self, prepare) -> None:
-        """Show the picture ``prepare()`` stands for, once it is made.
+    def request(self, prepare, along=None) -> None:
+        """Show the picture ``prepare()`` stands for, once it is made, with ``along()``'s state.
 
         Parameters
         ----------
@@ -95,6 +107,9 @@ class PixelPicture:
             does the VTK part and returns a job whose ``finish()`` makes the
             picture (:func:`phonglab.render.pixel_job.prepare`). Its
             exceptions reach the caller when it is called now.
+        along : callable, optional
+            Called right after ``prepare``, for the same view: a dict of state
+            keys set together with the picture (what belongs to it).
         """
         self.serial += 1
         try:
@@ -103,30 +118,44 @@ class PixelPicture:
             loop = None
         if loop is None:
             self._next = None
-            self.state[STATE_KEY] = picture_url(prepare())
+            job = prepare()
+            extra = along() if along is not None else {}
+            self.state[STATE_KEY] = picture_url(job)
+            for key, value in extra.items():
+                self.state[key] = value
+            self._pending(False)
         elif self._running is not None:
-            self._next = prepare  # made after the job running (a newer request replaces it)
+            self._next = (prepare, along)  # made after the job running (a newer request replaces it)
+            self._pending(True)
         else:
-            self._start(loop, prepare)
+            self._pending(True)
+            self._start(loop, prepare, along)
 
     def drop(self) -> None:
         """No picture is wanted (the page left pixel mode): a job running and a request waiting are not shown."""
         self.serial += 1
         self._dropped = self.serial
         self._next = None
+        self._pending(False)
 
     def close(self) -> None:
         """The tab is closing: nothing more is started or shown."""
         self.drop()
         self._closed = True
 
-    def _start(self, loop, prepare) -> None:
+    def _pending(self, value: bool) -> None:
+        if self.pending != value:
+            self.pending = value
+            self.state[PENDING_KEY] = value
+
+    def _start(self, loop, prepare, along=None) -> None:
         serial = self.serial
         job = prepare()  # the VTK part, here in the loop's thread
+        extra = along() if along is not None else {}  # for the same view, now
         self._running = loop.run_in_executor(None, picture_url, job)
-        self._running.add_done_callback(functools.partial(self._done, serial))
+        self._running.add_done_callback(functools.partial(self._done, serial, extra))
 
-    def _done(self, serial: int, future) -> None:
+    def _done(self, serial: int, extra: dict, future) -> None:
         """Back in the loop's thread: show the picture unless it was dropped; start the request waiting."""
         self._running = None
         if self._closed:
@@ -140,11 +169,16 @@ class PixelPicture:
         else:
             if serial > self._dropped:
                 self.state[STATE_KEY] = url
-        prepare, self._next = self._next, None
-        if prepare is not None:
+                for key, value in extra.items():
+                    self.state[key] = value
+        waiting, self._next = self._next, None
+        if waiting is not None:
             try:
-                self._start(asyncio.get_running_loop(), prepare)
+                self._start(asyncio.get_running_loop(), *waiting)
             except Exception as exc:
                 log.exception("the per-pixel picture")
                 self.notify("error", f"Could not make the per-pixel picture: {owned.reason(exc)}")
+                self._pending(False)
+        else:
+            self._pending(False)
         self.state.flush()

@@ -3,7 +3,10 @@
 Vuetify's ``VSlider`` draws its thumb as the ``[role=slider]`` element and
 gives it ``aria-label`` from the slider's ``name`` prop, so the name is the
 control's plain label (:func:`phonglab.app.wording.spoken_label`: "specular
-k_s", "light 1 azimuth").
+k_s", "light 1 azimuth"). Its ``aria-valuenow`` is the widget's number
+(log10 α for the shininess); ``www/phonglab.js`` gives the thumb the value
+text the control shows as ``aria-valuetext`` ("30"), which is what a screen
+reader says.
 
 One arrow key moves a Vuetify slider by its ``step``, which is also what a
 drag snaps to. A control with a larger :attr:`~phonglab.app.control.Control.key_step`

@@ -8,6 +8,7 @@ the same DejaVu font as the matplotlib plots.
 from __future__ import annotations
 
 import functools
+import math
 import os
 
 import matplotlib
@@ -22,8 +23,84 @@ def font(size: int, bold: bool = False) -> ImageFont.FreeTypeFont:
     return ImageFont.truetype(os.path.join(matplotlib.get_data_path(), "fonts", "ttf", name), int(size))
 
 
-def _overlaps(a, b, pad=2.0) -> bool:
-    return not (a[2] + pad <= b[0] or b[2] + pad <= a[0] or a[3] + pad <= b[1] or b[3] + pad <= a[1])
+#: places about a tip, tried in turn: rings further out, each turned from the arrow's direction (degrees)
+LABEL_TURNS = (0, 45, -45, 90, -90, 135, -135, 180)
+LABEL_RINGS = 3
+#: tips nearer than this (pixels) are one place: their letters cannot tell them apart
+SAME_TIP = 3.0
+#: pixels kept free between two letters' boxes
+LABEL_PAD = 2.0
+
+
+def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
+    """Where each letter's centre goes: about its own tip, never nearer another arrow's tip.
+
+    Parameters
+    ----------
+    tips : sequence of (x, y)
+        The arrow tips in image pixels (row 0 at the top), in drawing order.
+    directions : sequence of (dx, dy)
+        Each arrow's direction on the image (any length; zero: seen end-on, the letter goes above).
+    offsets : sequence of float
+        How far past its tip each letter's centre goes first, in pixels.
+    halves : sequence of float
+        Half the side of each letter's box, in pixels.
+    size : (width, height)
+        The image's size.
+
+    Returns
+    -------
+    list of ndarray
+        Each letter's centre.
+
+    Notes
+    -----
+    The first place is ``offset`` past the tip along the arrow. Where it
+    covers a letter placed before, lies outside the image, or is as near
+    another tip as its own (a letter reads as its nearest tip's; tips
+    within :data:`SAME_TIP` are one), the letter turns about its own tip by
+    :data:`LABEL_TURNS`, then a ring half a box further out; with no free
+    place in :data:`LABEL_RINGS` rings, the place covering and straying
+    least is taken. A letter never wanders off to another arrow.
+    """
+    width, height = size
+    tips = [np.asarray(t, dtype=float) for t in tips]
+    placed: list[tuple[np.ndarray, float]] = []
+    for tip, direction, offset, half in zip(tips, directions, offsets, halves):
+        d = np.asarray(direction, dtype=float)
+        norm = float(np.hypot(*d))
+        d = d / norm if norm > 1e-9 else np.array([0.0, -1.0])
+        others = [t for t in tips if float(np.hypot(*(t - tip))) >= SAME_TIP]
+        best = None
+        for ring in range(LABEL_RINGS):
+            r = offset + ring * half
+            for turn in LABEL_TURNS:
+                c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
+                centre = tip + r * np.array([c * d[0] - s * d[1], s * d[0] + c * d[1]])
+                covers = sum(bool(np.all(np.abs(centre - other) < half + other_half + LABEL_PAD))
+                             for other, other_half in placed)
+                strays = sum(float(np.hypot(*(other - centre))) <= r + 1.0 for other in others)
+                outside = not (half <= centre[0] <= width - half and half <= centre[1] <= height - half)
+                cost = 3 * covers + 2 * strays + 2 * outside + ring
+                if best is None or cost < best[0]:
+                    best = (cost, centre)
+                if cost == ring:  # free: the nearest free place
+                    break
+            if best[0] == ring:
+                break
+        placed.append((best[1], half))
+    return [centre for centre, _ in placed]
+
+
+def label_places(labels, size) -> tuple[list[np.ndarray], list[float]]:
+    """The centres :func:`draw_labels` gives ``labels`` on an image of ``size`` (width, height), and their half extents."""
+    size_px = max(12, round(size[1] / 24))
+    fnt = font(size_px, bold=True)
+    # each letter's half extent from its centre (a box anchored at its middle ends there)
+    extents = [max(fnt.getbbox(text, anchor="mm")[2:]) for text, *_ in labels]
+    centres = place_labels([xy for _, xy, _, _ in labels], [d for _, _, d, _ in labels],
+                           [0.45 * size_px + 0.6 * e for e in extents], [e + 1 for e in extents], size)
+    return centres, extents
 
 
 def draw_labels(image: np.ndarray, labels) -> np.ndarray:
@@ -40,31 +117,17 @@ def draw_labels(image: np.ndarray, labels) -> np.ndarray:
     Returns
     -------
     ndarray
-        A new image with the labels; a label that would cover an earlier one
-        is moved down until it does not.
+        A new image with the labels, each about its own tip (:func:`place_labels`).
     """
     height = image.shape[0]
     size = max(12, round(height / 24))
     fnt = font(size, bold=True)
     out = Image.fromarray(image)
     draw = ImageDraw.Draw(out)
-    placed = []
-    for text, (x, y), (dx, dy), rgb in labels:
-        d = np.array([dx, dy], dtype=float)
-        norm = np.linalg.norm(d)
-        d = d / norm if norm > 1e-9 else np.array([0.0, -1.0])
-        width_px, height_px = draw.textbbox((0, 0), text, font=fnt, anchor="mm")[2:]
-        centre = np.array([x, y]) + d * (0.45 * size + 0.6 * max(width_px, height_px))
-        # keep the label inside the image
-        half = 0.5 * max(width_px, height_px) + 2
-        centre = np.clip(centre, [half, half], [image.shape[1] - half, height - half])
-        for _ in range(8):
-            left, top, right, bottom = draw.textbbox(tuple(centre), text, font=fnt, anchor="mm")
-            box = np.array([left, top, right, bottom], dtype=float)
-            if not any(_overlaps(box, other) for other in placed):
-                break
-            centre = centre + np.array([0.0, (bottom - top) + 2])
-        placed.append(box)
+    centres, extents = label_places(labels, (image.shape[1], height))
+    for (text, _, _, rgb), centre, extent in zip(labels, centres, extents):
+        half = 0.5 * extent + 2
+        centre = np.clip(centre, [half, half], [image.shape[1] - half, height - half])  # inside the image
         # a dark outline keeps the letter readable on bright highlights
         draw.text(
             tuple(centre), text, font=fnt, anchor="mm", fill=tuple(int(c) for c in rgb),

@@ -33,6 +33,9 @@ window.phonglab = {
       mounted() {
         // the local view this component sits in (tests and benchmarks read its camera and pixels)
         window.phonglabView = this.view;
+        // the view is on the page (after the lesson opened): the server sends it its camera, which is the
+        // scene's with the angle that holds the arrows and markers (one sent before the view was here is lost)
+        if (window.trame && typeof window.trame.trigger === "function") window.trame.trigger("phonglab_view_ready");
         // not reactive: the drawing policy's bookkeeping (see the top of this file)
         this.draw = { shown: null, colours: 0, coloursShown: 0, holdSince: null, holdLimit: 0, timer: null,
                       changedAt: null, frameMs: 0, roundTripMs: null, lettersTimer: null };
@@ -266,11 +269,43 @@ window.phonglab = {
     // at the arrow tips ({letter, base, tip, color}, world coordinates). Each frame in which the
     // browser's camera or the canvas changed, the tips are projected with the browser's own
     // camera; a letter goes just past its tip along the arrow (above it for an arrow seen
-    // end-on, like V), and a letter that would cover another one is moved aside.
+    // end-on, like V). Where that place covers a letter placed before, or lies as near another
+    // arrow's tip as its own (a letter reads as its nearest tip's), the letter turns about its
+    // own tip, then a ring further out: it never wanders off to another arrow.
     const LETTER_GAP = 11; // pixels from the tip to the letter's centre
     const LETTER_BOX = 17; // pixels a letter keeps free around its centre
+    const LETTER_STEP = 7; // pixels from one ring of places about a tip to the next
+    const LETTER_RINGS = 3;
+    const LETTER_TURNS = [0, 45, -45, 90, -90, 135, -135, 180]; // degrees from the arrow's direction
+    const SAME_TIP = 3; // pixels: tips nearer than this are one place (a letter cannot tell them apart)
+    // a vtk.js camera and the server's {position, view_angle}: the same to a millionth
+    function sameCamera(camera, server) {
+      const a = camera.getPosition(), b = server.position;
+      const scale = Math.max(1, Math.hypot(a[0], a[1], a[2]));
+      return Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) <= 1e-6 * scale
+        && Math.abs(camera.getViewAngle() - server.view_angle) <= 1e-6 * server.view_angle;
+    }
+    // the place of a letter whose tip is `tip` and arrow runs along (dx, dy): the first free place about
+    // its tip, nearest first; else the one that covers and strays least
+    function placeLetter(tip, dx, dy, otherTips, placed) {
+      let best = null;
+      for (let ring = 0; ring < LETTER_RINGS; ring++) {
+        const r = LETTER_GAP + ring * LETTER_STEP;
+        for (const turn of LETTER_TURNS) {
+          const a = (turn * Math.PI) / 180, c = Math.cos(a), s = Math.sin(a);
+          const x = tip[0] + r * (c * dx - s * dy), y = tip[1] + r * (s * dx + c * dy);
+          const covers = placed.filter((o) => Math.abs(o.x - x) < LETTER_BOX && Math.abs(o.y - y) < LETTER_BOX).length;
+          const strays = otherTips.filter((o) => Math.hypot(o[0] - x, o[1] - y) <= r + 1).length;
+          if (!covers && !strays) return { x, y };
+          const cost = 3 * covers + 2 * strays + ring;
+          if (!best || cost < best.cost) best = { x, y, cost };
+        }
+      }
+      return best;
+    }
     app.component("phonglab-letters", {
-      props: { tips: { type: Array, default: () => [] }, hidden: { type: Boolean, default: false } },
+      props: { tips: { type: Array, default: () => [] }, hidden: { type: Boolean, default: false },
+               camera: { type: Object, default: null }, covered: { type: Boolean, default: false } },
       inject: { view: { default: null } },
       mounted() {
         const host = this.$el.closest(".phonglab-view") || this.$el.parentNode;
@@ -288,6 +323,7 @@ window.phonglab = {
       watch: {
         tips() { this.seen = ""; },
         hidden() { this.seen = ""; },
+        covered() { this.seen = ""; },
       },
       methods: {
         tick() {
@@ -302,6 +338,13 @@ window.phonglab = {
             return;
           }
           const camera = renderer.getActiveCamera();
+          // over the core's picture, the letters belong to the picture's camera: none while the view's is
+          // another (the camera the server pushed arrives before the picture made for it)
+          if (this.covered && this.camera && !sameCamera(camera, this.camera)) {
+            this.layer.style.display = "none";
+            this.seen = "";
+            return;
+          }
           // the view angle spans the view's shorter side, as in the server's images (SceneView), so a
           // view taller than wide frames the scene as the per-pixel image does and the letters meet its arrows
           const horizontal = canvas.clientWidth < canvas.clientHeight;
@@ -326,19 +369,13 @@ window.phonglab = {
           };
           const placed = [];
           // a letter whose arrow tip the mesh hides (the server casts a ray to it) is not drawn
-          for (const t of (this.tips || []).filter((x) => !x.behind)) {
-            const base = screen(t.base), tip = screen(t.tip);
+          const shown = (this.tips || []).filter((x) => !x.behind).map((t) => ({ t, base: screen(t.base), tip: screen(t.tip) }));
+          for (const { t, base, tip } of shown) {
             let dx = tip[0] - base[0], dy = tip[1] - base[1];
             const length = Math.hypot(dx, dy);
             if (length < 4) { dx = 0; dy = -1; } else { dx /= length; dy /= length; }
-            const label = { t, x: tip[0] + dx * LETTER_GAP, y: tip[1] + dy * LETTER_GAP };
-            // nearly coinciding arrows: step the letter on past the one it would cover
-            for (let tries = 0; tries < 8; tries++) {
-              const clash = placed.find((o) => Math.abs(o.x - label.x) < LETTER_BOX && Math.abs(o.y - label.y) < LETTER_BOX);
-              if (!clash) break;
-              label.x = clash.x + LETTER_BOX;
-            }
-            placed.push(label);
+            const others = shown.filter((o) => Math.hypot(o.tip[0] - tip[0], o.tip[1] - tip[1]) >= SAME_TIP).map((o) => o.tip);
+            placed.push({ t, ...placeLetter(tip, dx, dy, others, placed) });
           }
           while (layer.children.length > placed.length) layer.lastChild.remove();
           placed.forEach((label, i) => {
@@ -358,8 +395,8 @@ window.phonglab = {
     // lesson and the settings that differ from it) into the address bar with
     // history.replaceState, ADDRESS_DELAY ms after the last change (no history entry, no
     // flood while a slider moves; at once when the page is left), and, once, sends the
-    // query the page was opened with to the server (url_request), which checks it, opens
-    // that lesson and applies its settings.
+    // query the page was opened with to the server (url_request, empty when it has none),
+    // which checks it, opens that lesson, applies its settings and then shows the page.
     const ADDRESS_DELAY = 250;
     app.component("phonglab-address", {
       props: { query: { type: String, default: "" } },
@@ -376,9 +413,10 @@ window.phonglab = {
           }
         };
         window.addEventListener("pagehide", this.write);
+        // always sent, an empty query too: the server shows the page once the lesson asked for is open
         const asked = window.location.search;
-        if (asked && window.trame && window.trame.state) window.trame.state.set("url_request", asked);
-        else if (this.query) window.history.replaceState(window.history.state, "", window.location.pathname + this.query);
+        if (window.trame && window.trame.state) window.trame.state.set("url_request", asked || "");
+        if (!asked && this.query) window.history.replaceState(window.history.state, "", window.location.pathname + this.query);
       },
       unmounted() {
         window.removeEventListener("pagehide", this.write);
@@ -390,6 +428,29 @@ window.phonglab = {
           clearTimeout(this.timer);
           this.timer = setTimeout(this.write, ADDRESS_DELAY);
         },
+      },
+      template: "<div style='display:none'></div>",
+    });
+    // <phonglab-notice-timer :notice="notice">: a notice that only informs ("Applied: …", kind info or
+    // success) goes by itself NOTICE_MS after it came, unless another has come since; warnings and errors
+    // stay until closed.
+    const NOTICE_MS = 4000;
+    app.component("phonglab-notice-timer", {
+      props: { notice: { type: Object, default: null } },
+      watch: {
+        notice(value) {
+          clearTimeout(this.timer);
+          if (!value || !["info", "success"].includes(value.kind)) return;
+          const serial = value.serial;
+          this.timer = setTimeout(() => {
+            const state = window.trame && window.trame.state;
+            const shown = state && state.get("notice");
+            if (shown && shown.serial === serial) state.set("notice", null);
+          }, NOTICE_MS);
+        },
+      },
+      unmounted() {
+        clearTimeout(this.timer);
       },
       template: "<div style='display:none'></div>",
     });
@@ -413,6 +474,33 @@ window.phonglab = {
     });
   },
 };
+
+// Screen readers hear what the screen shows. A slider's thumb (Vuetify's [role=slider]) says its value
+// as aria-valuenow, which is the widget's own number (log10 α for the shininess: 1.48 where the page
+// shows 30); its aria-valuetext is set to the value the control shows beside it, whenever that changes.
+// The 3D view's focusable box (vtk.js's, around the canvas) gets a name saying what it is and does.
+const VIEW_NAME = "The scene in 3D: drag to turn it, the wheel zooms, a click moves the probe";
+(function () {
+  function speak() {
+    for (const control of document.querySelectorAll(".phonglab-control")) {
+      const thumb = control.querySelector("[role=slider]");
+      const shown = control.querySelector(".phonglab-value");
+      const text = shown ? shown.textContent.trim() : "";
+      if (thumb && text && thumb.getAttribute("aria-valuetext") !== text) thumb.setAttribute("aria-valuetext", text);
+    }
+    const canvas = document.querySelector(".phonglab-view canvas");
+    const box = canvas && canvas.parentNode;
+    if (box && box.hasAttribute("tabindex") && box.getAttribute("aria-label") !== VIEW_NAME) {
+      box.setAttribute("role", "application");
+      box.setAttribute("aria-label", VIEW_NAME);
+    }
+  }
+  // the letters over the view change every frame of a drag: nothing for a screen reader there
+  const elsewhere = (record) => !(record.target.closest && record.target.closest(".phonglab-letters"))
+    && !(record.target.parentElement && record.target.parentElement.closest(".phonglab-letters"));
+  new MutationObserver((records) => { if (records.some(elsewhere)) speak(); })
+    .observe(document.documentElement, { childList: true, subtree: true, characterData: true });
+})();
 
 // A drag that turns the view ends with a click event too; only a click that
 // did not move may pick the probe. Capturing listeners on the document run

@@ -1,0 +1,49 @@
+"""The grader's picture keeps each caption within its own panel: the difference map's title is wrapped, not cut
+at the picture's edge ("(log 1e-4..1" was all a student saw of it)."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+from PIL import Image, ImageDraw, ImageFont
+
+from phonglab.accuracy import grade_picture
+from phonglab.teaching.sandbox import Limits
+
+
+@pytest.mark.parametrize("error", [0.0012, 0.35, 1.0])
+def test_every_caption_stays_within_its_panel(monkeypatch, error):
+    def spheres(file, limits):
+        mask = np.zeros((grade_picture.PICTURE_SIZE,) * 2, bool)
+        mask[20:70, 20:70] = True
+        core = np.where(mask[..., None], np.full(mask.shape + (3,), 0.4), np.nan)
+        return core, core + error, mask, 0
+
+    monkeypatch.setattr(grade_picture, "sphere_images", spheres)
+    data, _ = grade_picture.picture_png("unused.py", Limits())
+    image = np.asarray(Image.open(io.BytesIO(data)).convert("L"))
+    panel, gap = grade_picture.PICTURE_SIZE * 2, 8
+    top = int(np.argmax(image[:, gap + panel - 3] < 100))  # the first panel's dark background begins
+    ink = image[:top] < 128  # the caption band above the panels
+    inside = np.zeros(image.shape[1], bool)
+    for i in range(3):
+        inside[gap + i * (panel + gap):gap + i * (panel + gap) + panel] = True
+    stray = np.argwhere(ink[:, ~inside])
+    assert len(stray) == 0, (error, f"caption ink outside the panels' columns, {len(stray)} pixels")
+    # the third caption's words are all drawn: its ink reaches well into a second line or within its panel
+    assert ink[:, inside].any(), error
+
+
+def test_captions_wrap_at_spaces_within_the_width():
+    font = ImageFont.load_default(size=12)
+    draw = ImageDraw.Draw(Image.new("RGB", (1, 1)))
+    measure = lambda t: draw.textlength(t, font=font)  # noqa: E731
+    text = "|difference| max 0.0012 (log scale 0.0001 to 1)"
+    lines = grade_picture.caption_lines(text, 192, measure)
+    assert " ".join(lines) == text and len(lines) == 2, lines
+    assert all(measure(line) <= 192 for line in lines), [(line, measure(line)) for line in lines]
+    long = grade_picture.caption_lines("word " * 80, 100, measure)
+    assert len(long) == grade_picture.CAPTION_LINES and long[-1].endswith("…"), long
+    assert all(measure(line) <= 100 for line in long), long
