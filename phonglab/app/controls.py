@@ -394,6 +394,17 @@ MISTAKE_SWITCH = Control(
 )
 
 
+#: the switch that shows the scene under Phong and under Cook–Torrance below the view (a view option)
+COMPARE_SWITCH = Control(
+    path="view.compare",
+    label="Phong beside Cook–Torrance",
+    kind="switch",
+    read=lambda scene, options: bool(options.get("compare", False)),
+    write=lambda scene, value, options: (scene, {**options, "compare": value}),
+    group="View",
+)
+
+
 def controls_shape(scene) -> tuple:
     """What decides which controls a scene gets: its light types and whether its shape is parametric."""
     return tuple(_light_kind(light) for light in scene.lights), scene.geometry.kind in PARAMETRIC_KINDS

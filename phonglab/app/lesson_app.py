@@ -40,6 +40,7 @@ from phonglab.app.control import ControlError, finite3, format_value
 from phonglab.app import eye, owned, page, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app.check_question import CheckPanel
+from phonglab.app.compare_panel import ComparePanel
 from phonglab.app.student_code import StudentCodePanel
 from phonglab.app import client
 from phonglab.app import address
@@ -127,6 +128,7 @@ class LessonApp(TrameApp):
         self._init_state()
         self.accuracy = AccuracyPanel(self.state, self.notify)
         self.check = CheckPanel(self.state)
+        self.compare = ComparePanel(self.state)  # Phong beside Cook–Torrance, made in a worker
         self.student_code = StudentCodePanel(self.state, allow_student_code)
         self.exports = download.Exports(self.state, self.notify)  # figures made in a worker process
         self.pictures = PixelPicture(self.state, self.notify)  # the per-pixel picture, made in a thread
@@ -222,7 +224,9 @@ class LessonApp(TrameApp):
         s.question_html = text.inline(lesson.question) if lesson and lesson.question else ""
         s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
         self._mistake = s.mistake = self._mistake_info()
-        extra = {"view__mistake": ctl.MISTAKE_SWITCH} if self._mistake and self._mistake.get("available") else {}
+        extra = {"view__compare": ctl.COMPARE_SWITCH}
+        if self._mistake and self._mistake.get("available"):
+            extra["view__mistake"] = ctl.MISTAKE_SWITCH
         self.controls = ctl.ControlSet(ctl.Frame.of_camera(entry.scene.camera),
                                        lesson.controls if lesson else (), extra)
         self.options = {"term": "color"}
@@ -385,6 +389,7 @@ class LessonApp(TrameApp):
         if not s.pixel_mode:
             s.update(self._probe_panels())
         self.accuracy.follow(scene)
+        self.compare.follow(scene, bool(self.options.get("compare")))
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)
         values = self._sync_control_values()
@@ -657,6 +662,7 @@ class LessonApp(TrameApp):
         """Release the view's OpenGL resources and this session's trame registrations."""
         self._later.cancel()
         self.accuracy.close()
+        self.compare.close()
         self.exports.close()
         self.pictures.close()
         self.student_code.close()  # its grading, waiting or running, is cancelled

@@ -284,6 +284,13 @@ class _Page:
                                        variant="outlined", divided=True, classes="phonglab-pick-toggle"):
                         v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
                         v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
+                    # the scene under Phong and under Cook–Torrance, side by side below the view
+                    v3.VBtn("Compare models", size="small", prepend_icon="mdi-compare",
+                            variant=("view__compare ? 'flat' : 'outlined'",),
+                            color=("view__compare ? 'primary' : undefined",),
+                            click="view__compare = !view__compare", classes="phonglab-compare-toggle",
+                            aria_pressed=("view__compare ? 'true' : 'false'",),
+                            title="Show this scene under Phong and under Cook–Torrance, side by side")
             with html.Div(classes="phonglab-view"):
                 with vtk_widgets.VtkLocalView(
                     self.render_window,
@@ -313,8 +320,22 @@ class _Page:
                     classes="phonglab-hint",
                 )
                 self._notice()
+            self._compare_panel()
             self._accuracy_panel()
             self._readout_panel()
+
+    def _compare_panel(self):
+        """Phong beside Cook–Torrance: the scene under both models, from the view's eye (made in a worker)."""
+        with html.Div(classes="phonglab-compare", v_if="view__compare"):
+            html.Span("Phong beside Cook–Torrance: the same mesh, lights and eye, each shaded per pixel by the "
+                      "core", classes="phonglab-section")
+            v3.VProgressLinear(indeterminate=True, v_if="compare_busy", color="primary", height=2)
+            html.Img(v_if="compare_png.src", src=("compare_png.src",), classes="phonglab-compare-picture",
+                     alt="this scene under Phong (left) and under Cook–Torrance (right)")
+            html.Div("Making the comparison… (a few seconds)", role="status",
+                     v_if="!compare_png.src && compare_png.status === 'making'", classes="phonglab-note")
+            html.Div("{{ compare_png.error }}", v_if="compare_png.status === 'failed'", role="status",
+                     classes="phonglab-note")
 
     def _accuracy_panel(self):
         """The accuracy lesson's panel: the error images for a picked method and mesh, and the plot."""
