@@ -33,7 +33,8 @@ from typing import Callable
 
 import numpy as np
 
-from .checks import as_points, check_lights, check_material, check_model, refuse_nonfinite, viewer
+from .checks import (as_points, check_lights, check_material, check_model, check_visibility, refuse_nonfinite,
+                     viewer)
 from .model import AmbientLight, DirectionalLight, Material, SpotLight
 from .physics import attenuation, face_forward, facing_away, spot_factor
 from .record import ambient_intensity, bind, make_light_record, make_record, names_in
@@ -166,6 +167,7 @@ def shade_reference(
     two_sided: bool = False,
     steps: Steps = Steps(),
     trace: bool = False,
+    visibility=None,
 ):
     """The Phong or Blinn-Phong model evaluated the plain way, one light at a time.
 
@@ -188,6 +190,11 @@ def shade_reference(
     trace : bool
         Also return the :class:`~phonglab.core.Record` of what was used:
         every vector, factor, cosine, weight and term, per light.
+    visibility : mapping int -> array_like, optional
+        Shadows, as for :func:`~phonglab.core.shade`: for a light's index,
+        1 where it reaches the point and 0 where something blocks it. A
+        blocked light adds nothing there; the record keeps ``lit`` for each
+        light given, and its terms are gated by it.
 
     Returns
     -------
@@ -214,6 +221,8 @@ def shade_reference(
     The record's terms are formulas (:mod:`phonglab.core.record`): each
     step's ``formula`` attribute, where it has one, else the name of the
     value it returned (``diffuse weight``, ``specular weight``, ``ambient``).
+    A light given in ``visibility`` has each term inside the gate
+    ``("if", ("lit",), term)``: 0 in its shadow.
 
     Examples
     --------
@@ -240,6 +249,7 @@ def shade_reference(
     dtype = working_dtype(points, normals)
     points, normals = np.broadcast_arrays(points.astype(dtype), normals.astype(dtype))
     per_point, per_rgb = points.shape[:-1], points.shape
+    visibility = check_visibility(visibility, lights, per_point) or {}
 
     # the normal, and the direction to the eye
     n = steps.normal(normals)
@@ -290,7 +300,6 @@ def shade_reference(
         kd_id = np.asarray(material.kd) * np.asarray(light.diffuse_rgb)
         w_d = steps.diffuse_weight(nl)
         term_d = (f * kd_id * w_d[..., None]).astype(dtype)
-        diffuse += term_d
 
         # specular: k_s ∘ I_s times the specular weight of c = r·v or n·h
         if model == "phong":
@@ -302,6 +311,13 @@ def shade_reference(
         ks_is = np.asarray(material.ks) * np.asarray(light.specular_rgb)
         w_s = steps.specular_weight(nl, c, material.shininess)
         term_s = (f * ks_is * w_s[..., None]).astype(dtype)
+
+        # the shadow: a blocked light adds nothing at the point
+        lit = visibility.get(index)
+        if lit is not None:
+            term_d = np.where(lit[..., None], term_d, 0).astype(dtype)
+            term_s = np.where(lit[..., None], term_s, 0).astype(dtype)
+        diffuse += term_d
         specular += term_s
 
         if trace:
@@ -321,6 +337,9 @@ def shade_reference(
             terms = {"diffuse": ("mul", "f", "k_d", "I_d", _formula(steps.diffuse_weight, "diffuse weight")),
                      "specular": ("mul", "f", "k_s", "I_s",
                                   bind(_formula(steps.specular_weight, "specular weight"), {"c": cosine}))}
+            if lit is not None:
+                values["lit"] = lit
+                terms = {name: ("if", ("lit",), formula) for name, formula in terms.items()}
             known = set(values) | _SHARED
             terms = {name: _usable(formula, known, name) for name, formula in terms.items()}
             kind = "directional" if isinstance(light, DirectionalLight) else (
