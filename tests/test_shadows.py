@@ -254,3 +254,52 @@ def test_a_bias_larger_than_the_gap_lets_light_leak_under_a_thin_card():
     seen = {bias: bool(shadows.visibility(card.replace("shadow_bias", bias), under, [1])[1][0])
             for bias in (0.001, 0.1, 0.5)}
     assert seen == {0.001: False, 0.1: False, 0.5: True}, seen
+
+
+# ---------------------------------------------------------------------------
+# the page: the readout's line per light, the switch and the offset
+
+
+def test_the_readout_says_per_light_lit_or_in_shadow_and_names_the_blocker(view):
+    from phonglab.app.readout import probe_readout
+
+    view.update(BALL)
+    point, normal = view.probe
+    assert abs(point[2]) < 1e-6, point  # the lesson's probe: on the floor, in the ball's shadow
+    out = probe_readout(BALL, point, normal, view.light_index)
+    assert out["shadows"] == [{"light": "light 1", "state": "in shadow", "blocker": "ball",
+                               "text": out["notes"][0]}], out["shadows"]
+    assert "blocked by the ball" in out["notes"][0] and "on the floor" in out["notes"][1]
+    terms = {t["name"]: t["value"] for t in out["terms"]}
+    assert terms["diffuse"] == terms["specular"] == "(0.000, 0.000, 0.000)", terms
+    lit = probe_readout(BALL.replace("shadows", False), point, normal, view.light_index)
+    assert lit["shadows"] == [] and float(lit["terms"][1]["value"].strip("()").split(",")[0]) > 0.1, lit["terms"]
+    beside = BALL.replace("probe", [2.0, -2.0, 0.0])  # on the floor, in the open
+    view.update(beside)
+    out = probe_readout(beside, *view.probe, view.light_index)
+    assert out["shadows"][0]["state"] == "lit" and out["shadows"][0]["blocker"] is None, out["shadows"]
+
+
+def test_the_shadow_switch_and_the_offset_are_controls_a_lesson_can_list():
+    from phonglab.app.controls import lesson_controls, scene_controls
+
+    controls = {c.path: c for c in scene_controls(BALL)}
+    switch, offset = controls["shadows"], controls["shadow_bias"]
+    assert switch.kind == "switch" and offset.kind == "slider" and offset.low == 0.0
+    assert switch.read(BALL, {}) is True
+    off, _ = switch.write(BALL, False, {})
+    assert off.shadows is False and off.objects == BALL.objects
+    moved, _ = offset.write(BALL, 0.25, {})
+    assert moved.shadow_bias == 0.25
+    assert [c.path for c in lesson_controls(list(controls.values()), ["shadows", "shadow_bias"])] == [
+        "shadows", "shadow_bias"]
+
+
+def test_the_plan_lists_the_traced_and_the_skipped_pairs():
+    lines = plan(BALL).as_dict()
+    computed = {line["effect"]: line["reason"] for line in lines["computed"]}
+    skipped = {line["effect"]: line["reason"] for line in lines["skipped"]}
+    assert "rays from the floor" in computed["shadow: light 1 blocked by the ball"], computed
+    assert "cannot shadow itself" in skipped["shadow: light 1 blocked by the floor"], skipped
+    assert "shadows are off" in {e: r for e, r in (
+        (x["effect"], x["reason"]) for x in plan(BALL.replace("shadows", False)).as_dict()["skipped"])}["shadows"]

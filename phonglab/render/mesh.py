@@ -335,6 +335,14 @@ def surface_point(mesh: pv.PolyData, point) -> tuple[np.ndarray, np.ndarray]:
     return _blend_normal(mesh, int(cell_id), np.asarray(closest))
 
 
+def closest_cell(mesh: pv.PolyData, point) -> int:
+    """The id of the triangle nearest ``point`` (the one :func:`surface_point` lands on)."""
+    closest = [0.0, 0.0, 0.0]
+    cell_id, sub_id, dist2 = vtk.reference(0), vtk.reference(0), vtk.reference(0.0)
+    _locator(mesh).FindClosestPoint([float(c) for c in point], closest, cell_id, sub_id, dist2)
+    return int(cell_id)
+
+
 def ray_hit(mesh: pv.PolyData, origin, target) -> tuple[np.ndarray, np.ndarray] | None:
     """The first mesh point on the segment from ``origin`` through ``target``.
 

@@ -22,7 +22,7 @@ import numpy as np
 import pyvista as pv
 
 from phonglab.render.glyphs import bounding_radius
-from phonglab.render.mesh import build_mesh, triangles
+from phonglab.render.mesh import build_mesh, closest_cell, triangles
 
 #: the point and cell array naming each point's and each triangle's object (0 = the first)
 OBJECT_ARRAY = "ObjectId"
@@ -105,6 +105,12 @@ def cell_objects(mesh: pv.PolyData) -> np.ndarray | None:
     return None if ids is None else np.asarray(ids)
 
 
+def object_at(mesh: pv.PolyData, point) -> int:
+    """The object whose surface is nearest ``point`` (a probe on the surface: the object it lies on)."""
+    ids = cell_objects(mesh)
+    return 0 if ids is None else int(ids[closest_cell(mesh, point)])
+
+
 def object_count(mesh: pv.PolyData) -> int:
     """How many objects a :func:`scene_mesh` holds."""
     ids = cell_objects(mesh)
@@ -135,5 +141,5 @@ def smallest_radius(mesh: pv.PolyData) -> float:
     return min(bounding_radius(pv.PolyData(object_points(mesh, i))) for i in range(object_count(mesh)))
 
 
-__all__ = ["scene_mesh", "mesh_key", "point_objects", "cell_objects", "object_count", "object_points", "object_triangles",
+__all__ = ["scene_mesh", "mesh_key", "object_at", "point_objects", "cell_objects", "object_count", "object_points", "object_triangles",
            "smallest_radius", "OBJECT_ARRAY"]

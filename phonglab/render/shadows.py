@@ -27,9 +27,9 @@ import threading
 import numpy as np
 
 from phonglab import core
-from phonglab.render.objects import mesh_key, object_count, object_triangles, scene_mesh
+from phonglab.render.objects import mesh_key, object_at, object_count, object_triangles, scene_mesh
 
-__all__ = ["Caster", "caster", "visibility", "blockers"]
+__all__ = ["Caster", "caster", "visibility", "blockers", "at_probe"]
 
 
 class Caster:
@@ -185,3 +185,19 @@ def blockers(scene, point, obj: int = 0) -> dict[int, int | None]:
         if cast.occluded(pair.occluder, origins, directions, lengths)[0]:
             out[pair.light] = pair.occluder
     return out
+
+
+def at_probe(scene, point) -> tuple[int, dict | None, dict[int, int | None]]:
+    """What the readout needs at a probe point: its object, the kernels' visibility there, the blockers.
+
+    Returns
+    -------
+    (object, visibility, blockers)
+        The index of the object the point lies on; ``{light: [lit]}`` for
+        the kernels (None without shadows); and for every directed light the
+        object that blocks it, or None (:func:`blockers`; empty without shadows).
+    """
+    obj = object_at(scene_mesh(scene), point) if len(scene.all_objects) > 1 else 0
+    found = blockers(scene, point, obj)
+    seen = {light: np.array([by is None]) for light, by in found.items()} if scene.shadows else None
+    return obj, seen or None, found

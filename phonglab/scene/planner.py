@@ -133,7 +133,7 @@ def plan(scene: Scene, *, full_shadows: bool = False, convex=None) -> ScenePlan:
         effect = f"shadow: light {pair.light} blocked by the {objects[pair.occluder].label}"
         if pair.traced:
             computed.append((effect, "rays from " + ", ".join(f"the {objects[r].label}" for r in pair.receivers)
-                             + " are tested against it"))
+                             + " are tested against it" + "".join(f"; {why}" for _, why in pair.reasons)))
         else:
             skipped.append((effect, "; ".join(why for _, why in pair.reasons)))
     return ScenePlan(tuple(computed), tuple(skipped), core_plan, area is not None, plans, pairs)
