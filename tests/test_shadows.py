@@ -303,3 +303,36 @@ def test_the_plan_lists_the_traced_and_the_skipped_pairs():
     assert "cannot shadow itself" in skipped["shadow: light 1 blocked by the floor"], skipped
     assert "shadows are off" in {e: r for e, r in (
         (x["effect"], x["reason"]) for x in plan(BALL.replace("shadows", False)).as_dict()["skipped"])}["shadows"]
+
+
+# ---------------------------------------------------------------------------
+# exports: phonglab export, in the three modes, and a sweep over the switch
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_an_export_shows_the_shadow_and_no_pixel_is_brighter_with_it(tmp_path, mode):
+    from PIL import Image
+
+    from phonglab.cli import main
+
+    scene = ROOT / "assets" / "scenes" / "ball-over-floor.toml"
+    images = {}
+    for shadows in ("true", "false"):
+        out = tmp_path / f"{mode}-{shadows}.png"
+        assert main(["export", str(scene), "-o", str(out), "--size", "200x150", "--supersample", "1", "--vectors", "",
+                     "--set", f"interpolation={mode}", "--set", f"shadows={shadows}"]) == 0
+        with Image.open(out) as img:
+            images[shadows] = np.asarray(img.convert("RGB")).astype(int)
+    on, off = images["true"], images["false"]
+    assert not (on > off).any(axis=-1).any(), mode
+    assert ((off - on).max(axis=-1) >= 40).mean() > 0.02, mode
+
+
+def test_a_sweep_over_the_switch_and_the_offset_exports(tmp_path):
+    from phonglab.cli import main
+
+    out = tmp_path / "sweep.png"
+    assert main(["export", str(ROOT / "assets" / "scenes" / "ball-over-floor.toml"), "-o", str(out), "--size",
+                 "120x90", "--supersample", "1", "--sweep", "shadows=true,false",
+                 "--sweep", "shadow_bias=0.001,0.5"]) == 0
+    assert out.stat().st_size > 1000

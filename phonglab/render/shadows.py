@@ -29,7 +29,7 @@ import numpy as np
 from phonglab import core
 from phonglab.render.objects import mesh_key, object_at, object_count, object_triangles, scene_mesh
 
-__all__ = ["Caster", "caster", "visibility", "blockers", "at_probe"]
+__all__ = ["Caster", "caster", "visibility", "blockers", "at_probe", "forget"]
 
 
 class Caster:
@@ -96,6 +96,12 @@ def caster(scene) -> Caster:
 _SEEN: dict = {}
 #: visibilities kept (a turn of the view shades the same vertices under the same lights again)
 MAX_SEEN = 8
+
+
+def forget() -> None:
+    """Drop every kept visibility (a benchmark times the casting itself, as after a lamp moved)."""
+    with _CASTERS_LOCK:
+        _SEEN.clear()
 
 
 def visibility(scene, points, objects=None, *, scene_plan=None, full: bool = False, cache=None) -> dict | None:

@@ -286,8 +286,8 @@ CLAIM_FUNCTIONS = {
                    "point (the accuracy study's panel and floor, RMS over 4 seeds)"),
     "area_ratio": ((), "point-light approximation over the exact area-light irradiance, directly under the "
                        "panel's centre"),
-    "blocked": ((), "1 when the straight line from the probe to the first directed light crosses the surface "
-                    "(the point would be in its shadow; the model does not look), else 0"),
+    "blocked": ((), "1 when the straight line from the probe to the first directed light crosses a surface "
+                    "(the point is in its shadow; the model looks only with shadows = true), else 0"),
     "sum_gap": ((CHANNELS + ("?",),), "the largest difference, over the picture's pixels, between the colour and "
                                       "the sum of its terms (the model's numbers)"),
     # the picture the page shows: 8-bit levels 0 to 255 of the pixels the surface covers
