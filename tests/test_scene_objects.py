@@ -149,3 +149,16 @@ def test_a_lesson_of_one_object_gets_exactly_the_mesh_it_always_had():
         mine, before = scene_mesh(scene), build_mesh(scene.geometry)
         assert np.array_equal(mine.points, before.points) and np.array_equal(mine.faces, before.faces), name
         assert "ObjectId" not in mine.point_data, name
+
+
+def test_check_reads_every_objects_mesh_file(tmp_path, capsys):
+    from phonglab.cli import main
+
+    (tmp_path / "broken.ply").write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                         "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                         "end_header\n0 0 0\n1 0 0\n")
+    write(tmp_path, OBJECT.format(name="a", resolution=8)
+          + '[[objects]]\nname = "b"\ngeometry = { kind = "file", path = "broken.ply" }\n'
+            'material = { ka = 0.1, kd = 0.8, ks = 0.3, shininess = 20 }\n')
+    assert main(["check", str(tmp_path / "scene.toml")]) == 1
+    assert "objects[1].geometry.path: holds no surface" in capsys.readouterr().out

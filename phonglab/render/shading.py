@@ -70,9 +70,12 @@ def shade(scene, points, normals, mistake: str | None = None, *, scene_plan=None
     ValueError
         For an unknown mistake name (the message lists the names allowed).
     """
-    from phonglab.scene.planner import shade as scene_shade
+    from phonglab.scene.planner import plan, shade as scene_shade
 
-    seen = shadows.visibility(scene, points, objects, scene_plan=scene_plan, cache=cache) if scene.shadows else None
+    seen = None
+    if scene.shadows:
+        scene_plan = scene_plan or plan(scene)  # once, for the shadows and the shading
+        seen = shadows.visibility(scene, points, objects, scene_plan=scene_plan, cache=cache)
     return scene_shade(scene, points, normals, mistake=mistake, scene_plan=scene_plan, objects=objects,
                        visibility=seen)
 

@@ -77,7 +77,7 @@ def viewer(scene: Scene) -> dict:
     return {"eye": scene.camera.eye}
 
 
-def plan(scene: Scene, *, full_shadows: bool = False, convex=None) -> ScenePlan:
+def plan(scene: Scene, *, full_shadows: bool = False) -> ScenePlan:
     """Decide which effects ``scene`` needs, with a reason for each one skipped.
 
     Parameters
@@ -86,9 +86,6 @@ def plan(scene: Scene, *, full_shadows: bool = False, convex=None) -> ScenePlan:
     full_shadows : bool
         Trace the shadow rays of every light–object pair (the reference the
         planned shadows match), not only those that can be blocked.
-    convex : sequence of bool, optional
-        Per object, whether it cannot shadow itself (a mesh's own hull may
-        say so); by default decided by its kind.
 
     Returns
     -------
@@ -126,7 +123,7 @@ def plan(scene: Scene, *, full_shadows: bool = False, convex=None) -> ScenePlan:
         area = None
     else:
         computed.append(("area light", _AREA_HOW[area.method].format(samples=area.samples)))
-    pairs = plan_shadows(scene, plans, full=full_shadows, convex=convex)
+    pairs = plan_shadows(scene, plans, full=full_shadows)
     if not scene.shadows:
         skipped.append(("shadows", "shadows are off: every light reaches every point its n·l gate lets it"))
     for pair in pairs:

@@ -14,7 +14,8 @@ holds (each is conservative: it never leaves out a ray that could be blocked):
 
 1. L adds nothing to R (its intensity, or R's ``k_d`` and ``k_s``, are 0);
 2. R is B itself, and B cannot shadow itself: a convex solid or a flat
-   plane (:data:`~phonglab.scene.objects.CONVEX_KINDS`). On the smooth
+   plane (:data:`~phonglab.scene.objects.CONVEX_KINDS`; a torus may, and so
+   may a mesh read from a file, whose shape the planner does not read). On the smooth
    surface such a mesh stands for, the only rays its own surface blocks
    leave the point into the solid, where the light is behind the surface
    and ``n·l ≤ 0`` already gives 0; the ray caster never tests an object
@@ -84,7 +85,7 @@ class ShadowPair:
         return bool(self.receivers)
 
 
-def plan_shadows(scene, core_plans, *, full: bool = False, convex=None) -> tuple[ShadowPair, ...]:
+def plan_shadows(scene, core_plans, *, full: bool = False) -> tuple[ShadowPair, ...]:
     """The light–object pairs of ``scene`` and which of them are traced (empty without ``shadows``).
 
     Parameters
@@ -96,9 +97,6 @@ def plan_shadows(scene, core_plans, *, full: bool = False, convex=None) -> tuple
     full : bool
         Trace every pair (but an object that cannot shadow itself is still
         not tested against itself: that is the model's rule, not a shortcut).
-    convex : sequence of bool, optional
-        Per object, whether it cannot shadow itself; by default decided by
-        its kind (:func:`~phonglab.scene.objects.cannot_shadow_itself`).
 
     Returns
     -------
@@ -110,7 +108,7 @@ def plan_shadows(scene, core_plans, *, full: bool = False, convex=None) -> tuple
     objects = scene.all_objects
     names = [o.label for o in objects]
     boxes = [_widened(object_box(o.geometry)) for o in objects]
-    flat = [cannot_shadow_itself(o.geometry) if convex is None else bool(convex[i]) for i, o in enumerate(objects)]
+    flat = [cannot_shadow_itself(o.geometry) for o in objects]
     pairs = []
     for index, light in enumerate(scene.lights):
         if isinstance(light, core.AmbientLight):
