@@ -51,6 +51,8 @@ def add_arguments(parser):
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     parser.add_argument("--shadow-vertices", type=int, default=100_000, metavar="N",
                         help="vertices of the shadow scenes (default 100000)")
+    parser.add_argument("--shadow-picture", default="960x720", metavar="WxH",
+                        help="size of the per-pixel view the shadows are timed in (default 960x720, the page's)")
 
 
 def interleaved_medians(functions: dict, repeats: int) -> dict:
@@ -184,13 +186,16 @@ def run(args) -> int:
 
         raise UsageError(f"--points and --repeats must be >= 1, got {n_points} and {repeats}")
     shadow_vertices = 20_000 if args.quick else args.shadow_vertices
-    if shadow_vertices < 100:
+    picture = "320x240" if args.quick else args.shadow_picture
+    size = picture.split("x") if isinstance(picture, str) else []
+    if shadow_vertices < 100 or len(size) != 2 or not all(x.isdigit() and 16 <= int(x) <= 4096 for x in size):
         from phonglab.bench.usage import UsageError
 
-        raise UsageError(f"--shadow-vertices must be >= 100, got {shadow_vertices}")
+        raise UsageError(f"--shadow-vertices must be >= 100 and --shadow-picture WxH, each from 16 to 4096, "
+                         f"got {shadow_vertices} and {picture!r}")
     result = measure(n_points, repeats, np.dtype(args.dtype))
     print(f"timing the shadow figures on about {shadow_vertices} vertices", file=sys.stderr, flush=True)
-    result["shadows"] = shadows.measure(shadow_vertices, repeats, (320, 240) if args.quick else (960, 720))
+    result["shadows"] = shadows.measure(shadow_vertices, repeats, (int(size[0]), int(size[1])))
     if args.json:
         print(json.dumps(result, indent=2))
     else:

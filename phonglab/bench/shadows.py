@@ -179,7 +179,8 @@ def _load() -> str:
 
 def format_report(result: dict) -> str:
     """The shadow figures as lines of the planner's report."""
-    lines = [f"shadows (median CPU time of {max(result['repeats'], 16)} runs; {result['load']} at the end):"]
+    lines = [f"shadows (median CPU time of {max(result['repeats'], 16)} runs, 3 times as many for the convex object; "
+             f"{result['load']} at the end):"]
     width = max(len(row["case"]) for row in result["cases"])
     for row in result["cases"]:
         target = f"  target <= {row['target']:.2f}: {row['verdict']}" if row["target"] is not None else ""
