@@ -162,3 +162,13 @@ def test_check_reads_every_objects_mesh_file(tmp_path, capsys):
             'material = { ka = 0.1, kd = 0.8, ks = 0.3, shininess = 20 }\n')
     assert main(["check", str(tmp_path / "scene.toml")]) == 1
     assert "objects[1].geometry.path: holds no surface" in capsys.readouterr().out
+
+
+def test_an_area_lights_work_counts_every_objects_vertices(tmp_path):
+    # 4096 samples × about 1,200 vertices a sphere: two spheres are under the limit of 50M rays, twelve are not
+    panel = '[area_light]\nposition = [0, 2, 0]\nmethod = "uniform"\nsamples = 4096\n'
+    text = "".join(OBJECT.format(name=f"o{i}", resolution=48) for i in range(2)) + panel
+    load_scene(write(tmp_path, text))
+    text = "".join(OBJECT.format(name=f"o{i}", resolution=48) for i in range(12)) + panel
+    with pytest.raises(SceneError, match=r"area_light.samples: 4096 samples × 14,400 mesh vertices"):
+        load_scene(write(tmp_path, text))
