@@ -370,7 +370,7 @@ def incidence_plot(scene, size):
     y_lo, y_hi = min(-0.12 - 0.04, points[:, 1].min() - margin), points[:, 1].max() + margin
 
     # the numbers, in blocks: angles, then dot products and the specular factor
-    alpha = scene.material.shininess
+    alpha = float(used["α"])  # the probe's object's shininess, as the model used it
     cos_symbol = r"n\cdot h" if scene.model == "blinn-phong" else r"r\cdot v"
     factor = float(used["specular weight"])  # as the model computed it, gated by n·l > 0
     blocks = [
