@@ -44,7 +44,9 @@ BALL_OVER_FLOOR = Path(__file__).resolve().parents[2] / "assets" / "scenes" / "b
 
 
 def _medians(functions: dict, repeats: int) -> dict:
-    """Median CPU time of each function (this thread's), timed in turn after one warm-up each, the order reversed each round.
+    """Median CPU time of each function (this thread's), timed in turn, the order reversed each round.
+
+    Each function runs once first, as a warm-up.
 
     CPU time, not wall time: on a shared machine another process's work lands
     on the wall clock of whichever function runs then, and with figures a few

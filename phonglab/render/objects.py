@@ -141,5 +141,5 @@ def smallest_radius(mesh: pv.PolyData) -> float:
     return min(bounding_radius(pv.PolyData(object_points(mesh, i))) for i in range(object_count(mesh)))
 
 
-__all__ = ["scene_mesh", "mesh_key", "object_at", "point_objects", "cell_objects", "object_count", "object_points", "object_triangles",
-           "smallest_radius", "OBJECT_ARRAY"]
+__all__ = ["scene_mesh", "mesh_key", "object_at", "point_objects", "cell_objects", "object_count", "object_points",
+           "object_triangles", "smallest_radius", "OBJECT_ARRAY"]

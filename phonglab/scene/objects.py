@@ -25,6 +25,7 @@ from phonglab import core
 from phonglab.scene.errors import SceneError
 from phonglab.scene.limits import mesh_vertex_count
 from phonglab.scene.meshsize import mesh_counts
+from phonglab.scene.schema import MAX_OBJECTS, MAX_SCENE_TRIANGLES
 
 # ---------------------------------------------------------------------------
 # the shapes built from a formula, at scale 1 (world units)
@@ -54,10 +55,6 @@ SHAPE_BOXES = {
 #: kinds whose mesh cannot shadow itself: convex solids (sphere, cube, capped cylinder) and the flat plane
 CONVEX_KINDS = ("sphere", "cube", "cylinder", "plane")
 
-#: most objects in one scene
-MAX_OBJECTS = 16
-#: most triangles all of a scene's objects may have together (the limit of one mesh file)
-MAX_SCENE_TRIANGLES = 2_000_000
 #: the largest scale of an object, and the smallest
 SCALE_RANGE = (1e-3, 1e3)
 

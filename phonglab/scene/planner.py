@@ -54,7 +54,8 @@ class ScenePlan:
     area_light: bool = False  # the scene's area light adds light
     #: every object's core plan (its own material), the first one's being ``core``
     objects: tuple = ()
-    #: the light–object pairs of a scene with shadows, traced or skipped (:func:`~phonglab.scene.shadowplan.plan_shadows`)
+    #: the light–object pairs of a scene with shadows, traced or skipped
+    #: (:func:`~phonglab.scene.shadowplan.plan_shadows`)
     shadows: tuple[ShadowPair, ...] = ()
 
     def as_dict(self) -> dict:

@@ -316,6 +316,10 @@ MAX_MESH_VERTICES = 1_000_000
 MAX_MESH_TRIANGLES = 2_000_000
 #: most lights in a scene (OpenGL's fixed pipeline had 8)
 MAX_LIGHTS = 16
+#: most objects in one scene ([[objects]])
+MAX_OBJECTS = 16
+#: most triangles all of a scene's objects may have together: as many as one mesh file may hold
+MAX_SCENE_TRIANGLES = MAX_MESH_TRIANGLES
 #: largest |coordinate| of a position, direction, eye, focal point or up vector, in scene units
 #: (the meshes fit the unit sphere; beyond this, distances squared overflow float32)
 MAX_COORDINATE = 1e6
