@@ -45,6 +45,7 @@ SECTIONS = {
     "lesson keys": set(schema.LESSON_KEYS),
     "[geometry]": set(schema.GEOMETRY_KEYS),
     "[material]": set(schema.MATERIAL_KEYS),
+    "[[objects]]": set(schema.OBJECT_KEYS),
     "[[lights]]": ALL_LIGHT_KEYS,
     "[camera]": set(schema.CAMERA_KEYS),
     "[area_light]": set(schema.AREA_LIGHT_KEYS),

@@ -20,14 +20,21 @@ from PIL import Image
 import phonglab as pl
 from phonglab.render import build_mesh, figure
 from phonglab.render.mesh import face_centroids_normals, triangles
+from phonglab.render.objects import cell_objects, point_objects, scene_mesh
 from phonglab.scene import lesson_files, list_lessons, load_lesson, plan
 from phonglab.scene import shade as scene_shade
 from phonglab.teaching import MISTAKES
 
 
-def shade_scene(scene, points, normals, mistake=None):
-    """The scene's shading, correct or with the named mistake."""
-    return scene_shade(scene, points, normals, mistake=mistake)
+def shade_scene(scene, points, normals, mistake=None, objects=None):
+    """The scene's shading, correct or with the named mistake, each point with its object's material and shadows."""
+    from phonglab.render.shadows import visibility
+
+    shape = np.shape(points)[:-1]
+    flat = None if objects is None else np.broadcast_to(objects, shape).reshape(-1)
+    seen = visibility(scene, np.reshape(points, (-1, 3)), flat, full=True) if scene.shadows else None
+    seen = None if seen is None else {i: v.reshape(shape) for i, v in seen.items()}
+    return scene_shade(scene, points, normals, mistake=mistake, objects=objects, visibility=seen)
 
 
 LESSONS_DIR = Path(__file__).resolve().parents[1] / "lessons"
@@ -72,23 +79,24 @@ def surface_shading(scene, mistake=None, bary=BARY) -> dict:
     -------
     dict of term -> ndarray, shape (n_triangles, k, 3)
     """
-    mesh = build_mesh(scene.geometry)
+    mesh = scene_mesh(scene)  # every object, placed
     tri = triangles(mesh)
     points = np.asarray(mesh.points, dtype=np.float64)
     normals = np.asarray(mesh.point_data["Normals"], dtype=np.float64)
+    on_vertex, on_face = point_objects(mesh), cell_objects(mesh)
     if scene.interpolation == "flat":
         # one shade per triangle, at its centroid with its face normal
         centroids, face_normals = face_centroids_normals(mesh)
-        s = shade_scene(scene, centroids.astype(np.float64), face_normals.astype(np.float64), mistake)
+        s = shade_scene(scene, centroids.astype(np.float64), face_normals.astype(np.float64), mistake, on_face)
         return {t: np.repeat(np.asarray(getattr(s, t))[:, None, :], len(bary), axis=1) for t in TERMS}
     if scene.interpolation == "gouraud":
         # shade the vertices, blend the colours
-        s = shade_scene(scene, points, normals, mistake)
+        s = shade_scene(scene, points, normals, mistake, on_vertex)
         return {t: np.einsum("kb,tbc->tkc", bary, np.asarray(getattr(s, t))[tri]) for t in TERMS}
     # per pixel: blend positions and normals, shade there (the core renormalises)
     p = np.einsum("kb,tbc->tkc", bary, points[tri])
     n = np.einsum("kb,tbc->tkc", bary, normals[tri])
-    s = shade_scene(scene, p, n, mistake)
+    s = shade_scene(scene, p, n, mistake, None if on_face is None else on_face[:, None])
     return {t: np.asarray(getattr(s, t)) for t in TERMS}
 
 

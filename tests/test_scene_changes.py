@@ -36,6 +36,13 @@ EDITS = {
     "lights": ("lights[1].position", [1.0, 2.0, 3.0]),
     "camera": ("camera.eye", [0.5, 0.0, 4.0]),
     "area_light": ("area_light", {"position": [0, 2, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1]}),
+    # the sphere itself, named, and a floor under it: the first object stays the scene's geometry and material
+    "objects": ("objects", [{"name": "ball", "geometry": {"kind": "sphere", "resolution": 48},
+                             "material": {"ka": 0.1, "kd": [0.8, 0.3, 0.2], "ks": 0.6, "shininess": 40}},
+                            {"name": "floor", "geometry": {"kind": "plane", "center": [0, -1, 0], "scale": 3},
+                             "material": {"ka": 0.1, "kd": 0.7, "ks": 0, "shininess": 1}}]),
+    "shadows": ("shadows", True),
+    "shadow_bias": ("shadow_bias", 0.01),
 }
 
 #: what the view and the page redid for each field before the table (the five hand-written sets)
@@ -52,6 +59,9 @@ BEFORE = {
     "lights": {"colours", "vectors", "markers"},
     "camera": {"camera", "colours", "default probe", "vectors", "markers", "eye"},
     "area_light": {"colours", "markers"},
+    "objects": {"mesh", "colours", "probe", "vectors"},
+    "shadows": {"colours"},
+    "shadow_bias": {"colours"},
 }
 
 
@@ -88,7 +98,8 @@ def test_a_change_of_one_field_needs_what_it_always_needed(field):
     assert changes.fields == {field}, (field, changes)
     assert changes.needs == BEFORE[field], (field, sorted(changes.needs), sorted(BEFORE[field]))
     # colours only: what the page sends as colour bytes alone (material, model, display, exposure; a title)
-    assert changes.colours_only == (field in {"title", "material", "model", "display", "exposure"}), field
+    assert changes.colours_only == (field in {"title", "material", "model", "display", "exposure", "shadows",
+                                              "shadow_bias"}), field
 
 
 def test_needs_add_up_and_an_unknown_need_is_refused():
@@ -124,3 +135,28 @@ def test_the_view_redoes_what_the_change_needs(view, field, monkeypatch):
         assert not np.array_equal(colours, view.colour_array().values), "the colours did not follow"
     monkeypatch.undo()
     view.update(SPHERE)
+
+
+TWO = edited("objects")
+
+
+@pytest.mark.parametrize("path, value, needs", [
+    ("material.ks", 0.2, {"colours"}),  # the first object's, in a scene of several
+    ("objects[1].material.kd", 0.3, {"colours"}),
+    ("objects[1].name", "ground", {"vectors"}),
+    ("objects[1].geometry.scale", 2.0, {"mesh", "colours", "probe", "vectors"}),
+    ("geometry.center", [0.0, 0.5, 0.0], {"mesh", "colours", "probe", "vectors"}),
+])
+def test_a_change_of_one_object_needs_what_that_part_needs(path, value, needs):
+    changes = Scene.changes(TWO, TWO.replace(path, value))
+    assert changes.needs == needs, (path, sorted(changes.needs), sorted(needs))
+    assert changes.colours_only == (needs == {"colours"}), path
+
+
+def test_the_first_object_is_the_scenes_geometry_and_material():
+    moved = TWO.replace("material.kd", 0.5)
+    assert moved.material.kd == (0.5, 0.5, 0.5) and moved.objects[0].material == moved.material
+    again = dataclasses.replace(TWO, material=moved.material)  # set in code: the first object follows
+    assert again.objects[0].material == moved.material and again == moved
+    assert scene_to_dict(TWO)["objects"][1]["name"] == "floor" and "geometry" not in scene_to_dict(TWO)
+    assert [o.label for o in SPHERE.all_objects] == ["sphere"] and not SPHERE.objects

@@ -11,8 +11,8 @@ import phonglab.scene
 
 SCENE_DIR = Path(phonglab.scene.__file__).parent
 #: bottom first: a module may import only modules listed before it (toml_lines stands alone)
-ORDER = ["errors", "schema", "toml_lines", "claims", "checks", "meshsize", "paths", "limits", "parts", "build",
-         "check", "fieldpath", "editing", "model", "loader", "lessons", "planner"]
+ORDER = ["errors", "schema", "toml_lines", "claims", "checks", "meshsize", "paths", "limits", "objects", "parts",
+         "build", "check", "fieldpath", "editing", "model", "loader", "lessons", "shadowplan", "planner"]
 
 
 def scene_imports(path: Path) -> set[str]:

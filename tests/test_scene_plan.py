@@ -215,13 +215,22 @@ def test_planner_benchmark_reports_every_case_with_a_verdict(capsys):
 
     parser = argparse.ArgumentParser()
     planner.add_arguments(parser)
-    assert planner.run(parser.parse_args(["--points", "3000", "--repeats", "1"])) == 0
+    assert planner.run(parser.parse_args(["--points", "3000", "--repeats", "1", "--shadow-vertices", "2000",
+                                          "--shadow-picture", "64x48"])) == 0
     out = capsys.readouterr().out
     for name in planner.cases():
         assert name in out, f"{name} missing from:\n{out}"
     for name in planner.TARGETS:
         row = next(line for line in out.splitlines() if line.startswith(name + " "))
         assert row.split()[-1] in ("PASS", "MISS"), row
+    from phonglab.bench import shadows
+
+    for name in ("convex object: shadows on / off", "ball over floor: planned / every pair",
+                 "ball over floor, per vertex: shadows on / off", "per-pixel view: shadows on / off"):
+        assert f"  {name}" in out, f"{name} missing from:\n{out}"
+    for name in shadows.TARGETS:
+        row = next(line for line in out.splitlines() if line.strip().startswith(name))
+        assert "PASS" in row or "MISS" in row, row
 
 
 def test_benchmark_scenes_plan_what_their_names_say():

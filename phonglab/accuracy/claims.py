@@ -6,8 +6,9 @@ each check is evaluated on the lesson's scene, with the claim's experiment
 and settings applied by :meth:`Scene.replace_many` as the page applies an
 experiment. The measurement functions see the scene as the page shows it:
 
-- the *picture* is the scene's mesh (:func:`phonglab.render.mesh.build_mesh`)
-  seen through the pixels of the scene's camera (exact ray casting,
+- the *picture* is the scene's mesh (:func:`phonglab.render.objects.scene_mesh`:
+  every object, each shaded with its own material, and the scene's shadows
+  traced for every light–object pair) seen through the pixels of the scene's camera (exact ray casting,
   :mod:`phonglab.accuracy.raycast`), shaded by the core with the scene's
   interpolation: one shade per triangle (flat), per vertex blended with the
   barycentric weights (Gouraud) or per pixel with blended normals;
@@ -99,9 +100,9 @@ class _Picture:
 
 
 def _mesh(scene):
-    from phonglab.render.mesh import build_mesh
+    from phonglab.render.objects import scene_mesh
 
-    return build_mesh(scene.geometry)
+    return scene_mesh(scene)
 
 
 def _view(scene) -> View:
@@ -110,17 +111,22 @@ def _view(scene) -> View:
                 view_angle=float(cam.view_angle), width=PICTURE_SIZE, height=PICTURE_SIZE)
 
 
-def _shade(scene, points, normals):
+def _shade(scene, points, normals, objects=None):
+    """The full evaluation at the points (on ``objects``), with the scene's shadows fully traced."""
+    from phonglab.render.shadows import visibility
     from phonglab.scene import shade
 
-    return shade(scene, points, normals, full=True)
+    seen = visibility(scene, points, objects, full=True) if scene.shadows else None
+    return shade(scene, points, normals, full=True, objects=objects, visibility=seen)
 
 
 @functools.lru_cache(maxsize=64)
 def _picture(scene) -> _Picture:
     from phonglab.render.mesh import face_centroids_normals, triangles
+    from phonglab.render.objects import cell_objects, point_objects
 
     mesh = _mesh(scene)
+    on_vertex, on_face = point_objects(mesh), cell_objects(mesh)
     tri = triangles(mesh)
     points = np.asarray(mesh.points, dtype=np.float64)
     normals = np.asarray(mesh.point_data["Normals"], dtype=np.float64)
@@ -133,13 +139,13 @@ def _picture(scene) -> _Picture:
 
     if scene.interpolation == "flat":
         centroids, face_normals = face_centroids_normals(mesh)
-        per_face = _shade(scene, np.asarray(centroids, float), np.asarray(face_normals, float))
+        per_face = _shade(scene, np.asarray(centroids, float), np.asarray(face_normals, float), on_face)
         shading = core.Shading(**{t: getattr(per_face, t)[hits.triangle] for t in _TERMS})
     elif scene.interpolation == "gouraud":
-        per_vertex = _shade(scene, points, normals)
+        per_vertex = _shade(scene, points, normals, on_vertex)
         shading = core.Shading(**{t: blend(getattr(per_vertex, t)) for t in _TERMS})
     else:  # per pixel: normals blended, renormalised by the core
-        shading = _shade(scene, blend(points), blend(normals))
+        shading = _shade(scene, blend(points), blend(normals), None if on_face is None else on_face[hits.triangle])
     lit = shading.diffuse.max(axis=-1) > 0
     return _Picture(shading=shading, lit=lit, mask=hits.mask)
 
@@ -162,10 +168,13 @@ def _probe(scene):
     the model used it, ``probe('specular')`` the specular term of all lights.
     """
     from phonglab.render.probe import directed_light_index, locate_probe
+    from phonglab.render.shadows import at_probe
     from phonglab.scene import trace
 
     point, normal = locate_probe(_mesh(scene), scene)
-    shading, record = trace(scene, np.asarray([point], float), np.asarray([normal], float))
+    obj, seen, _ = at_probe(scene, point)  # the object the probe is on, and the lights that reach it
+    shading, record = trace(scene, np.asarray([point], float), np.asarray([normal], float), obj=obj,
+                            visibility=seen)
     return record.at(0), shading, directed_light_index(scene.lights)
 
 
@@ -235,6 +244,7 @@ def _vertices(scene, resolution=None) -> float:
 
 
 def _lit_cap(scene) -> float:
+    from phonglab.render.objects import point_objects
     from phonglab.render.probe import directed_light_index
 
     mesh = _mesh(scene)
@@ -248,7 +258,7 @@ def _lit_cap(scene) -> float:
     # l seen from the centre (the core's l at a point, whatever the kind of light)
     axis = core.vectors(centre, (0.0, 0.0, 1.0), light=light, eye=scene.camera.eye).l
     one = scene.replace_many([(f"lights[{i}].intensity", 0) for i in range(len(scene.lights)) if i != index])
-    lit = _shade(one, points, normals).diffuse.max(axis=-1) > 0
+    lit = _shade(one, points, normals, point_objects(mesh)).diffuse.max(axis=-1) > 0
     offsets = points[lit] - centre
     cosines = offsets @ axis / np.linalg.norm(offsets, axis=-1)
     return float(np.degrees(np.arccos(np.clip(cosines.min(), -1.0, 1.0))))

@@ -51,6 +51,8 @@ INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)
 DISPLAYS = (("srgb", "sRGB"), ("linear", "linear (as 1990s fixed-function hardware did)"))
 #: the exposure slider's range: radiance × exposure before clipping
 EXPOSURE_RANGE = (0.1, 4.0)
+#: the shadow-ray offset slider, scene units: 0 shows acne, the upper end light leaking (a file allows up to 10)
+SHADOW_BIAS_SLIDER = (0.0, 1.0)
 #: the shininess slider spans α = 10**0 .. 10**3
 SHININESS_LOG_RANGE = (0.0, 3.0)
 #: one arrow key on the shininess slider: 0.03 in log10 α, α × 1.07 (dragging still snaps to 0.01)
@@ -294,9 +296,21 @@ def scene_controls(scene, frame: Frame | None = None, *, read_field=field_value)
                            group="Shading"))
     controls.append(_field("two_sided", "two-sided lighting", "switch", read_field, group="Shading"))
     controls.append(_field("camera.infinite_viewer", "infinite viewer", "switch", read_field, group="Shading"))
+    controls += _shadow_controls(read_field)
     controls += _display_controls(read_field)
     controls.append(_term())
     return controls
+
+
+def _shadow_controls(read_field) -> list[Control]:
+    """The shadow switch (the scene's ``shadows``) and the shadow ray's offset (``shadow_bias``, scene units)."""
+    return [
+        _field("shadows", "shadows", "switch", read_field, group="Shadows"),
+        Control(path="shadow_bias", label="shadow-ray offset (bias)", kind="slider",
+                read=lambda scene, options: float(scene.shadow_bias),
+                write=lambda scene, value, options: (scene.replace("shadow_bias", value), options),
+                low=SHADOW_BIAS_SLIDER[0], high=SHADOW_BIAS_SLIDER[1], step=0.001, fmt="{:.3f}", group="Shadows"),
+    ]
 
 
 def _display_controls(read_field) -> list[Control]:

@@ -33,6 +33,7 @@ from phonglab.app import equation
 from phonglab.app.text import mathml
 from phonglab.core.display import display_bytes
 from phonglab.core.record import names_in, resolve
+from phonglab.render import shadows
 from phonglab.scene import trace
 
 
@@ -174,7 +175,9 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
         (``"light 1"`` when the scene has more than one light, else None) and
         ``parts`` (with more than one light: {name, value, hex} for the
         ambient with the shown light, what each other light adds, and the
-        total; else empty). With more than one light, the dot n·l carries the
+        total; else empty), ``shadows`` (with ``shadows`` on: per light
+        {light, state: "lit" or "in shadow", blocker, text}, its text also
+        the first notes). With more than one light, the dot n·l carries the
         shown light's diffuse and r·v (n·h for Blinn-Phong) its specular as
         ``term`` ({name, value, hex}).
 
@@ -186,13 +189,15 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
     """
     p = np.asarray(point, dtype=np.float64).reshape(1, 3)
     n = np.asarray(normal, dtype=np.float64).reshape(1, 3)
-    correct, right = trace(scene, p, n)
+    # the object the probe lies on (its material) and, with shadows, which lights reach it
+    obj, seen, blocked_by = shadows.at_probe(scene, p[0]) if _objects_or_shadows(scene) else (0, None, {})
+    correct, right = trace(scene, p, n, obj=obj, visibility=seen)
     right = right.at(0)
     total, record = correct, right
     if mistake is not None:
         # the numbers that made the picture: the mistaken kernel's own record
         with np.errstate(over="ignore", invalid="ignore"):
-            total, record = trace(scene, p, n, mistake=mistake)
+            total, record = trace(scene, p, n, mistake=mistake, obj=obj, visibility=seen)
         record = record.at(0)
     out = {
         "point": _vec_text(p[0]),
@@ -252,7 +257,41 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
         out["equation"] = (f'<div class="phonglab-eq-head">Worked for {out["light_name"]} (its vectors are drawn) '
                            "with the ambient light; the last rows add the other lights.</div>" + out["equation"])
     out["notes"] = _notes(scene, right, record, shown, out, mistake)
+    out["shadows"] = _shadow_lines(scene, right, blocked_by)
+    objects = scene.all_objects
+    out["notes"][:0] = [line["text"] for line in out["shadows"]] + (
+        [f"The probe is on the {objects[obj].label}: its material's k_a, k_d, k_s and α are used."]
+        if len(objects) > 1 else [])
     return out
+
+
+def _objects_or_shadows(scene) -> bool:
+    return scene.shadows or len(scene.all_objects) > 1
+
+
+def _shadow_lines(scene, record, blocked_by) -> list[dict]:
+    """Per directed light, whether it reaches the probe ("lit") or not ("in shadow", and what blocks it).
+
+    ``lit`` is the record's (what the model used); the blocking object is
+    the ray caster's. Empty when the scene has no shadows.
+    """
+    if not scene.shadows:
+        return []
+    lines = []
+    objects = scene.all_objects
+    for light in record.lights:
+        if light.index is None or "lit" not in light.values:
+            continue
+        name = _name(light)
+        if bool(light["lit"]):
+            lines.append({"light": name, "state": "lit", "blocker": None,
+                          "text": f"{name.capitalize()}: lit here (no object blocks its shadow ray)."})
+        else:
+            by = objects[blocked_by[light.index]].label
+            lines.append({"light": name, "state": "in shadow", "blocker": by,
+                          "text": f"{name.capitalize()}: in shadow here (blocked by the {by}): it adds neither "
+                                  "diffuse nor specular light."})
+    return lines
 
 
 def _notes(scene, right, record, shown, out, mistake) -> list[str]:

@@ -17,6 +17,11 @@ to the ratio of the case's own full evaluation:
 
 Every time is the median of several runs, the scenes timed in turn. Targets (ratio to the baseline):
 ambient only <= 0.10, diffuse only <= 0.6, directional + infinite viewer <= 0.5.
+
+Then the shadow figures (:mod:`phonglab.bench.shadows`): one convex object
+with shadows on against off (target <= 1.05), the ball over the floor with
+the planned shadow rays against those of every pair, and the re-shade with
+shadows on per vertex and per pixel.
 """
 
 from __future__ import annotations
@@ -28,6 +33,7 @@ import time
 
 import numpy as np
 
+from phonglab.bench import shadows
 from phonglab.bench.scenes import red_sphere
 from phonglab.scene import Scene, plan, shade
 
@@ -43,6 +49,10 @@ def add_arguments(parser):
     parser.add_argument("--dtype", choices=("float32", "float64"), default="float32", help="vertex dtype (default float32)")
     parser.add_argument("--quick", action="store_true", help="100000 vertices, 3 runs: a smoke test")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    parser.add_argument("--shadow-vertices", type=int, default=100_000, metavar="N",
+                        help="vertices of the shadow scenes (default 100000)")
+    parser.add_argument("--shadow-picture", default="960x720", metavar="WxH",
+                        help="size of the per-pixel view the shadows are timed in (default 960x720, the page's)")
 
 
 def interleaved_medians(functions: dict, repeats: int) -> dict:
@@ -175,6 +185,19 @@ def run(args) -> int:
         from phonglab.bench.usage import UsageError
 
         raise UsageError(f"--points and --repeats must be >= 1, got {n_points} and {repeats}")
+    shadow_vertices = 20_000 if args.quick else args.shadow_vertices
+    picture = "320x240" if args.quick else args.shadow_picture
+    size = picture.split("x") if isinstance(picture, str) else []
+    if shadow_vertices < 100 or len(size) != 2 or not all(x.isdigit() and 16 <= int(x) <= 4096 for x in size):
+        from phonglab.bench.usage import UsageError
+
+        raise UsageError(f"--shadow-vertices must be >= 100 and --shadow-picture WxH, each from 16 to 4096, "
+                         f"got {shadow_vertices} and {picture!r}")
     result = measure(n_points, repeats, np.dtype(args.dtype))
-    print(json.dumps(result, indent=2) if args.json else format_report(result))
+    print(f"timing the shadow figures on about {shadow_vertices} vertices", file=sys.stderr, flush=True)
+    result["shadows"] = shadows.measure(shadow_vertices, repeats, (int(size[0]), int(size[1])))
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        print(format_report(result) + "\n\n" + shadows.format_report(result["shadows"]))
     return 0

@@ -58,20 +58,23 @@ def expand(names) -> list[Path]:
 def _read_mesh(loaded, path) -> None:
     """Read a scene's mesh file as export would, so a file that passes check also exports.
 
-    Parametric shapes are skipped; a mesh file was already sized from its
-    header when the scene loaded, so reading it is bounded.
+    Every object's; parametric shapes are skipped; a mesh file was already
+    sized from its header when the scene loaded, so reading it is bounded.
     """
     scene = getattr(loaded, "scene", loaded)
-    geometry = getattr(scene, "geometry", None)
-    if geometry is None or geometry.kind not in ("file", "pyvista"):
+    if scene is None:
         return
-    from phonglab.render.mesh import build_mesh  # VTK: only when a scene reads a mesh
-    from phonglab.scene import SceneError
+    several = len(scene.all_objects) > 1
+    for index, obj in enumerate(scene.all_objects):  # every object's mesh
+        if obj.geometry.kind not in ("file", "pyvista"):
+            continue
+        from phonglab.render.mesh import build_mesh  # VTK: only when a scene reads a mesh
+        from phonglab.scene import SceneError
 
-    try:
-        build_mesh(geometry)
-    except SceneError as exc:
-        raise exc.located(file=str(path)) from None
+        try:
+            build_mesh(obj.geometry)
+        except SceneError as exc:
+            raise exc.located(file=str(path), field=f"objects[{index}]" if several else None) from None
 
 
 def claim_report(lesson, path) -> tuple[list, list]:

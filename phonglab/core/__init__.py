@@ -13,8 +13,10 @@ the specular power), :mod:`~phonglab.core.model` (materials and lights),
 :mod:`~phonglab.core.record` of what it used),
 :mod:`~phonglab.core.plan` and :mod:`~phonglab.core.shading` (the fast
 kernel), :mod:`~phonglab.core.probe` (the vectors at one point),
-:mod:`~phonglab.core.area` (area lights) and :mod:`~phonglab.core.microfacet`
-(Cook–Torrance's terms).
+:mod:`~phonglab.core.area` (area lights), :mod:`~phonglab.core.microfacet`
+(Cook–Torrance's terms), :mod:`~phonglab.core.furnace` (the white furnace)
+and :mod:`~phonglab.core.shadows` (the shadow rays a ray caster above the
+core tests).
 """
 
 from .area import AREA_METHODS, AreaLight, area_diffuse, area_irradiance, polygon_irradiance
@@ -39,6 +41,7 @@ from .probe import ProbeVectors, vectors
 from .record import LightRecord, Record, add_area_light, ambient_intensity
 from .reference import Steps, lambert, shade_reference, specular_lobe
 from .shading import Shading, shade
+from .shadows import shadow_rays
 from .vectors import SQUARING_MAX, dot, normalize, one_minus_cos, reflect
 
 __all__ = [
@@ -49,6 +52,6 @@ __all__ = [
     "LightPlan", "Plan", "ProbeVectors", "Shading", "plan_effects", "shade", "vectors",
     "Steps", "shade_reference", "lambert", "specular_lobe",
     "LightRecord", "Record", "add_area_light", "ambient_intensity",
-    "dot", "normalize", "one_minus_cos", "reflect",
+    "dot", "normalize", "one_minus_cos", "reflect", "shadow_rays",
     "AREA_METHODS", "AreaLight", "area_diffuse", "area_irradiance", "polygon_irradiance",
 ]

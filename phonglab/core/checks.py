@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import MODELS, InvalidValue, Light, Material, vec3
+from .model import MODELS, AmbientLight, InvalidValue, Light, Material, vec3
 
-__all__ = ["as_points", "check_lights", "check_material", "check_model", "refuse_nonfinite", "viewer"]
+__all__ = ["as_points", "check_lights", "check_material", "check_model", "check_visibility", "refuse_nonfinite",
+           "viewer"]
 
 
 def check_material(material) -> Material:
@@ -70,3 +71,37 @@ def refuse_nonfinite(name, a):
         bad = np.argwhere(~np.isfinite(a))[0]
         raise InvalidValue(name, f"{a[tuple(bad)]} at index {tuple(int(i) for i in bad)}",
                            "must be finite (no NaN or inf)")
+
+
+def check_visibility(visibility, lights, shape) -> dict | None:
+    """``visibility`` as ``{light index: bool array of shape shape}``, or None when no light is blocked anywhere.
+
+    ``visibility`` maps the index of a point, spot or directional light in
+    ``lights`` to an array of 0 and 1 (or False and True), one per point,
+    broadcasting to ``shape`` (the points' shape without its last axis):
+    0 where the light is blocked. Lights it leaves out are not blocked.
+    """
+    if visibility is None:
+        return None
+    if not hasattr(visibility, "items"):
+        raise InvalidValue("visibility", visibility, "must map light indices to arrays of 0 and 1, one per point")
+    out = {}
+    for index, seen in visibility.items():
+        if isinstance(index, bool) or not isinstance(index, (int, np.integer)) or not 0 <= index < len(lights):
+            raise InvalidValue("visibility", f"key {index!r}", f"must be the index of a light, 0 to {len(lights) - 1}")
+        if isinstance(lights[index], AmbientLight):
+            raise InvalidValue("visibility", f"key {index}", "must be a point, spot or directional light: "
+                                                             "ambient light is not blocked")
+        seen = np.asarray(seen)
+        if seen.dtype != bool:
+            if not (np.issubdtype(seen.dtype, np.number) and ((seen == 0) | (seen == 1)).all()):
+                raise InvalidValue(f"visibility[{index}]", f"array of dtype {seen.dtype}",
+                                   "must hold only 0 and 1 (or False and True)")
+            seen = seen == 1
+        try:
+            seen = np.broadcast_to(seen, tuple(shape))
+        except ValueError:
+            raise InvalidValue(f"visibility[{index}]", f"array of shape {seen.shape}",
+                               f"must broadcast to the points' shape {tuple(shape)}") from None
+        out[int(index)] = seen
+    return out or None

@@ -105,7 +105,8 @@ class LightRecord:
         ``attenuation``, ``spot`` (the last three for point and spot lights),
         ``f``, ``n·l``, ``r``, ``r·v``, ``h``, ``n·h``, ``I_d``, ``I_s``,
         ``diffuse weight``, ``specular weight``, ``diffuse``, ``specular``
-        and ``adds`` (diffuse + specular).
+        and ``adds`` (diffuse + specular); with shadows, ``lit`` (True where
+        the light reaches the point, False in its shadow).
     terms : mapping str -> formula
         ``"diffuse"`` and ``"specular"``: the formula each term was computed
         by, over the names of ``values`` and of the record's values.

@@ -33,7 +33,8 @@ from typing import Callable
 
 import numpy as np
 
-from .checks import as_points, check_lights, check_material, check_model, refuse_nonfinite, viewer
+from .checks import (as_points, check_lights, check_material, check_model, check_visibility, refuse_nonfinite,
+                     viewer)
 from .microfacet import DIELECTRIC_F0, ggx_alpha
 from .model import AmbientLight, DirectionalLight, Material, SpotLight
 from .physics import attenuation, face_forward, facing_away, spot_factor
@@ -167,6 +168,7 @@ def shade_reference(
     two_sided: bool = False,
     steps: Steps = Steps(),
     trace: bool = False,
+    visibility=None,
 ):
     """The Phong or Blinn-Phong model evaluated the plain way, one light at a time.
 
@@ -192,6 +194,11 @@ def shade_reference(
     trace : bool
         Also return the :class:`~phonglab.core.Record` of what was used:
         every vector, factor, cosine, weight and term, per light.
+    visibility : mapping int -> array_like, optional
+        Shadows, as for :func:`~phonglab.core.shade`: for a light's index,
+        1 where it reaches the point and 0 where something blocks it. A
+        blocked light adds nothing there; the record keeps ``lit`` for each
+        light given, and its terms are gated by it.
 
     Returns
     -------
@@ -218,6 +225,8 @@ def shade_reference(
     The record's terms are formulas (:mod:`phonglab.core.record`): each
     step's ``formula`` attribute, where it has one, else the name of the
     value it returned (``diffuse weight``, ``specular weight``, ``ambient``).
+    A light given in ``visibility`` has each term inside the gate
+    ``("if", ("lit",), term)``: 0 in its shadow.
 
     Examples
     --------
@@ -244,6 +253,7 @@ def shade_reference(
     dtype = working_dtype(points, normals)
     points, normals = np.broadcast_arrays(points.astype(dtype), normals.astype(dtype))
     per_point, per_rgb = points.shape[:-1], points.shape
+    visibility = check_visibility(visibility, lights, per_point) or {}
 
     # the normal, and the direction to the eye
     n = steps.normal(normals)
@@ -294,12 +304,15 @@ def shade_reference(
         kd_id = np.asarray(material.kd) * np.asarray(light.diffuse_rgb)
         w_d = steps.diffuse_weight(nl)
         term_d = (f * kd_id * w_d[..., None]).astype(dtype)
-        diffuse += term_d
+        # the shadow: a blocked light adds nothing at the point
+        lit = visibility.get(index)
 
         if model == "cook-torrance":
-            # Cook–Torrance: the diffuse term above is weighted by (1 − F)(1 − m), the specular one is π D V F (n·l)
-            diffuse -= term_d
+            # Cook–Torrance: the diffuse term is weighted by (1 − F)(1 − m), the specular one is π D V F (n·l)
             term_d, term_s, ct = _cook_torrance(n, l, v, nl, f, w_d, material, light, dtype)
+            if lit is not None:
+                term_d = np.where(lit[..., None], term_d, 0).astype(dtype)
+                term_s = np.where(lit[..., None], term_s, 0).astype(dtype)
             diffuse += term_d
             specular += term_s
             if trace:
@@ -311,6 +324,9 @@ def shade_reference(
                 terms = {"diffuse": ("if", ("n·v",), ("mul", "f", "k_d", "I_d", "k_D",
                                                       _formula(steps.diffuse_weight, "diffuse weight"))),
                          "specular": ("if", ("n·l", "n·v"), ("mul", "f", "k_s", "I_s", "π", "D", "V", "F", "n·l"))}
+                if lit is not None:
+                    values["lit"] = lit
+                    terms = {name: ("if", ("lit",), formula) for name, formula in terms.items()}
                 known = set(values) | _SHARED | {"π", "m", "α_GGX", "F₀"}
                 terms = {name: _usable(formula, known, name) for name, formula in terms.items()}
                 records.append(make_light_record(index, _kind(light), {k: _cast(a, dtype) for k, a in values.items()},
@@ -327,6 +343,11 @@ def shade_reference(
         ks_is = np.asarray(material.ks) * np.asarray(light.specular_rgb)
         w_s = steps.specular_weight(nl, c, material.shininess)
         term_s = (f * ks_is * w_s[..., None]).astype(dtype)
+
+        if lit is not None:
+            term_d = np.where(lit[..., None], term_d, 0).astype(dtype)
+            term_s = np.where(lit[..., None], term_s, 0).astype(dtype)
+        diffuse += term_d
         specular += term_s
 
         if trace:
@@ -346,6 +367,9 @@ def shade_reference(
             terms = {"diffuse": ("mul", "f", "k_d", "I_d", _formula(steps.diffuse_weight, "diffuse weight")),
                      "specular": ("mul", "f", "k_s", "I_s",
                                   bind(_formula(steps.specular_weight, "specular weight"), {"c": cosine}))}
+            if lit is not None:
+                values["lit"] = lit
+                terms = {name: ("if", ("lit",), formula) for name, formula in terms.items()}
             known = set(values) | _SHARED
             terms = {name: _usable(formula, known, name) for name, formula in terms.items()}
             records.append(make_light_record(index, _kind(light), {k: _cast(a, dtype) for k, a in values.items()},

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .checks import as_points, check_lights, check_material, refuse_nonfinite, viewer
+from .checks import as_points, check_lights, check_material, check_visibility, refuse_nonfinite, viewer
 from .microfacet import fresnel_f0, ggx_alpha, ggx_distribution, smith_visibility_nl
 from .model import DirectionalLight, InvalidValue, Material
 from .physics import attenuation, face_forward, spot_factor
@@ -70,6 +70,7 @@ def shade(
     model: str = "phong",
     two_sided: bool = False,
     plan: Plan | str = "auto",
+    visibility=None,
 ) -> Shading:
     """Shade points with the Phong or Blinn-Phong model, term by term.
 
@@ -93,6 +94,13 @@ def shade(
     plan : Plan, "auto" or "full"
         Which effects to compute: "auto" plans them with :func:`~phonglab.core.plan_effects`,
         "full" evaluates everything (the reference).
+    visibility : mapping int -> array_like, optional
+        Shadows: for a light's index in ``lights``, 1 (True) at each point the
+        light reaches and 0 (False) where something blocks it, broadcasting to
+        the points' shape without its last axis. A blocked light adds neither
+        diffuse nor specular light there. Lights left out (and None) are not
+        blocked anywhere. Who blocks what is decided by a ray caster above the
+        core; the core only applies it.
 
     Returns
     -------
@@ -122,7 +130,11 @@ def shade(
     - the light factor ``f_l`` is :func:`~phonglab.core.attenuation` (distance
       floored at 1e-6, capped at 1e12) times :func:`~phonglab.core.spot_factor`
       (cone test with a few ulps of slack); the two-sided flip is
-      :func:`~phonglab.core.face_forward`.
+      :func:`~phonglab.core.face_forward`;
+    - with ``visibility``, ``f_l`` is multiplied by the light's 0 or 1 at the
+      point (``S_l``, the shadow term of the rendering equation's
+      visibility): times 1 leaves every bit as it was, so a light given as
+      visible everywhere shades exactly as one left out.
 
     :func:`~phonglab.core.shade_reference` is the same model written one
     light at a time, as in the lesson; the tests hold this kernel to it.
@@ -161,8 +173,12 @@ def shade(
     n_points = math.prod(shape[:-1])
     P = np.broadcast_to(points, shape).reshape(-1, 3)
     N = np.broadcast_to(normals, shape).reshape(-1, 3)
+    visibility = check_visibility(visibility, lights, shape[:-1])
 
     const = _Constants(material, lights, plan, eye, view_direction, dtype, points, normals)
+    if visibility is not None:
+        # each blocked light's 0 or 1 per point, in the working dtype, as one row
+        const.seen = {i: seen.reshape(-1).astype(dtype) for i, seen in visibility.items()}
     no_term = np.zeros(3, dtype)
     # results are held channel first, (3, n): every write below is a contiguous row
     diffuse = np.empty((3, n_points), dtype) if plan.diffuse else None
@@ -174,7 +190,7 @@ def shade(
             stop = min(start + CHUNK, n_points)
             diffuse_block = None if diffuse is None else diffuse[:, start:stop]
             specular_block = None if specular is None else specular[:, start:stop]
-            _shade_block(P[start:stop], N[start:stop], const, plan, diffuse_block, specular_block)
+            _shade_block(P[start:stop], N[start:stop], const, plan, diffuse_block, specular_block, start, stop)
             # colour = (diffuse + specular) + (ambient + emission), while the block is in cache
             _add_color(diffuse_block, specular_block, base, color[:, start:stop])
     else:
@@ -250,6 +266,7 @@ class _Constants:
         self.inputs = (("points", points), ("normals", normals)) if self.needs_points else (("normals", normals),)
         self.inputs_checked = False
         self.lights = [self._light(lp, lights[lp.index], plan, kd, ks) for lp in plan.lights]
+        self.seen = None  # light index -> its visibility row (0 or 1 per point), when shadows are given
 
     def _light(self, lp, lt, plan, kd, ks) -> _LightConstants:
         dtype = self.dtype
@@ -334,8 +351,8 @@ def _unit(direction, dtype):
 # one block
 
 
-def _shade_block(points, normals, const, plan, diffuse_out, specular_out):
-    """Shade one block of points, writing the (3, m) diffuse and specular blocks.
+def _shade_block(points, normals, const, plan, diffuse_out, specular_out, start=0, stop=None):
+    """Shade one block of points (``start:stop`` of all), writing the (3, m) diffuse and specular blocks.
 
     The sums over lights go straight into the outputs.
     """
@@ -387,6 +404,10 @@ def _shade_block(points, normals, const, plan, diffuse_out, specular_out):
             np.negative(cos_axis, out=cos_axis)  # the axis against the ray light -> point
             f_spot = spot_factor(cos_axis, cutoff=light.cutoff, exponent=light.exponent, out=cos_axis)
             f = f_spot if f is None else np.multiply(f, f_spot, out=f)
+        if const.seen is not None and lp.index in const.seen:
+            # the shadow: f_l times 0 where the light is blocked, 1 where it reaches the point
+            seen = const.seen[lp.index][start:stop]
+            f = seen if f is None else np.multiply(f, seen, out=f)
 
         if const.cook_torrance:
             _cook_torrance(surface, l, nl, f, light, const, plan, diffuse_out, specular_out, first)

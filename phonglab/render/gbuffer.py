@@ -21,8 +21,9 @@ import vtk
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from phonglab.render._vtk import make_render_window
+from phonglab.render.objects import OBJECT_ARRAY
 
-#: name of the 6-component point array (normal xyz, position xyz) drawn by the value pass
+#: name of the point array (normal xyz, position xyz, and the object for a mesh of several) drawn by the value pass
 GBUFFER_ARRAY = "phonglab_gbuffer"
 #: which faces a G-buffer may leave out: none, the back faces, the front faces
 CULLS = (None, "back", "front")
@@ -45,12 +46,16 @@ class GBuffer:
         The interpolated normal *before* renormalising: a blend of unit
         vectors, shorter than 1 inside a triangle whose vertex normals differ
         (NaN where uncovered). Only a deliberately wrong shading uses it.
+    objects : ndarray, shape (height, width), int32, or None
+        For a mesh of several objects (:mod:`~phonglab.render.objects`): the
+        object seen through each pixel (-1 where uncovered). None: one object.
     """
 
     positions: np.ndarray
     normals: np.ndarray
     mask: np.ndarray
     raw_normals: np.ndarray | None = None
+    objects: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -88,13 +93,15 @@ class GBufferRenderer:
         self._data = None
 
     def _use_mesh(self, mesh: pv.PolyData) -> None:
-        # one shallow copy per mesh, carrying the normal+position array
+        # one shallow copy per mesh, carrying the normal+position(+object) array
         if mesh is self._source:
             return
         data = pv.PolyData(mesh.points, faces=mesh.faces)
-        data.point_data[GBUFFER_ARRAY] = np.hstack(
-            [np.asarray(mesh.point_data["Normals"], np.float32), np.asarray(mesh.points, np.float32)]
-        )
+        columns = [np.asarray(mesh.point_data["Normals"], np.float32), np.asarray(mesh.points, np.float32)]
+        objects = mesh.point_data.get(OBJECT_ARRAY)
+        if objects is not None:  # the same at a triangle's three corners: interpolated, it stays the object's
+            columns.append(np.asarray(objects, np.float32)[:, None])
+        data.point_data[GBUFFER_ARRAY] = np.hstack(columns)
         self._mapper.SetInputData(data)
         self._source, self._data = mesh, data
 
@@ -130,14 +137,14 @@ class GBufferRenderer:
         own.Modified()  # DeepCopy leaves the modification time: without this, the last camera's matrices stay
         self._renderer.ResetCameraClippingRange()
         planes = []
-        # one pass per component: normal x, y, z then position x, y, z
-        for component in range(6):
+        # one pass per component: normal x, y, z then position x, y, z (then the object)
+        for component in range(self._data.point_data[GBUFFER_ARRAY].shape[1]):
             self._value_pass.SetInputComponentToProcess(component)
             self._window.Render()
             values = vtk_to_numpy(self._value_pass.GetFloatImageDataArray(self._renderer))
             planes.append(np.array(values, dtype=np.float32).reshape(height, width)[::-1])
         normals = np.stack(planes[:3], axis=-1)
-        positions = np.stack(planes[3:], axis=-1)
+        positions = np.stack(planes[3:6], axis=-1)
         # uncovered pixels hold NaN; a zero normal cannot be shaded either
         mask = np.isfinite(planes[0])
         covered = normals[mask]
@@ -151,7 +158,11 @@ class GBufferRenderer:
         raw_normals[mask] = covered
         normals[...] = np.nan
         normals[mask] = covered / length[:, None]
-        return GBuffer(positions=positions, normals=normals, mask=mask, raw_normals=raw_normals)
+        objects = None
+        if len(planes) > 6:
+            objects = np.full(mask.shape, -1, np.int32)
+            objects[mask] = np.rint(planes[6][mask]).astype(np.int32)
+        return GBuffer(positions=positions, normals=normals, mask=mask, raw_normals=raw_normals, objects=objects)
 
     def close(self) -> None:
         """Release the OpenGL context."""

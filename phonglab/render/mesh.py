@@ -2,9 +2,11 @@
 
 Every mesh :func:`build_mesh` returns is made of triangles only and carries
 unit point normals in the point array ``"Normals"``. The parametric kinds are
-sized to sit inside the unit sphere around the origin, so that the default
-camera (eye at (0, 0, 4), 30° view angle) frames each of them; meshes read
-from files are centred and scaled to the same unit sphere.
+sized to sit inside the unit sphere around the origin (the plane's corners
+reach a little further), so that the default camera (eye at (0, 0, 4), 30°
+view angle) frames each of them; meshes read from files are centred and
+scaled to the same unit sphere. A geometry's ``center`` and ``scale`` place
+the mesh in a scene (:func:`phonglab.render.objects.scene_mesh`), not here.
 
 Directions point *away from the surface point*, as everywhere in phonglab.
 """
@@ -25,15 +27,16 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from phonglab.render._vtk import quiet_vtk
 from phonglab.scene import SceneError
 from phonglab.scene.meshsize import check_mesh_size
-
-#: size of the parametric shapes (world units)
-SPHERE_RADIUS = 1.0
-RING_RADIUS = 0.72
-TUBE_RADIUS = 0.3
-PLANE_SIZE = 2.4
-CUBE_SIDE = 1.3
-CYLINDER_RADIUS = 0.65
-CYLINDER_HEIGHT = 1.5
+# the sizes of the parametric shapes (world units) are the scene layer's: its planner bounds objects by them
+from phonglab.scene.objects import (
+    CUBE_SIDE,
+    CYLINDER_HEIGHT,
+    CYLINDER_RADIUS,
+    PLANE_SIZE,
+    RING_RADIUS,
+    SPHERE_RADIUS,
+    TUBE_RADIUS,
+)
 #: superquadric roundness of the supertoroid (1 = a torus, smaller = boxier)
 SUPERTOROID_ROUNDNESS = 0.4
 #: angle above which an edge of a read mesh stays sharp when normals are computed
@@ -330,6 +333,14 @@ def surface_point(mesh: pv.PolyData, point) -> tuple[np.ndarray, np.ndarray]:
     cell_id, sub_id, dist2 = vtk.reference(0), vtk.reference(0), vtk.reference(0.0)
     locator.FindClosestPoint([float(c) for c in point], closest, cell_id, sub_id, dist2)
     return _blend_normal(mesh, int(cell_id), np.asarray(closest))
+
+
+def closest_cell(mesh: pv.PolyData, point) -> int:
+    """The id of the triangle nearest ``point`` (the one :func:`surface_point` lands on)."""
+    closest = [0.0, 0.0, 0.0]
+    cell_id, sub_id, dist2 = vtk.reference(0), vtk.reference(0), vtk.reference(0.0)
+    _locator(mesh).FindClosestPoint([float(c) for c in point], closest, cell_id, sub_id, dist2)
+    return int(cell_id)
 
 
 def ray_hit(mesh: pv.PolyData, origin, target) -> tuple[np.ndarray, np.ndarray] | None:

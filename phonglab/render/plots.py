@@ -22,7 +22,8 @@ from phonglab import core  # noqa: E402
 from phonglab.core import furnace, microfacet  # noqa: E402
 from phonglab.render.errors import FigureError  # noqa: E402
 from phonglab.render.layout import canvas  # noqa: E402
-from phonglab.render.mesh import build_mesh  # noqa: E402
+from phonglab.render.objects import scene_mesh  # noqa: E402
+from phonglab.render.shadows import at_probe  # noqa: E402
 from phonglab.render.probe import directed_light_index, locate_probe, probe_vectors  # noqa: E402
 from phonglab.render.text import fit_width, keep_inside  # noqa: E402
 from phonglab.scene import trace  # noqa: E402
@@ -394,9 +395,10 @@ def _probe_vectors(scene):
     index = directed_light_index(scene.lights)
     if index is None:
         return None
-    point, normal = locate_probe(build_mesh(scene.geometry), scene)
+    point, normal = locate_probe(scene_mesh(scene), scene)
     vec, _ = probe_vectors(scene, point, normal, index)
-    _, record = trace(scene, np.asarray([point], float), np.asarray([normal], float))
+    obj, seen, _ = at_probe(scene, point)  # the object the probe is on, and the lights that reach it
+    _, record = trace(scene, np.asarray([point], float), np.asarray([normal], float), obj=obj, visibility=seen)
     record = record.at(0)
     return point, normal, vec, ChainMap(dict(record.light(index).values), dict(record.values))
 
@@ -487,7 +489,7 @@ def incidence_plot(scene, size):
     y_lo, y_hi = min(-0.12 - 0.04, points[:, 1].min() - margin), points[:, 1].max() + margin
 
     # the numbers, in blocks: angles, then dot products and the specular factor
-    alpha = scene.material.shininess
+    alpha = float(used["α"])  # the probe's object's shininess, as the model used it
     cos_symbol = r"n\cdot h" if scene.model == "blinn-phong" else r"r\cdot v"
     factor = float(used["specular weight"])  # as the model computed it, gated by n·l > 0
     blocks = [

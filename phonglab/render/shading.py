@@ -1,5 +1,9 @@
 """Colours for the three interpolation modes, computed by the core.
 
+Each point is shaded with the material of the object it lies on, and, in a
+scene with ``shadows``, with the lights its shadow rays reach
+(:mod:`~phonglab.render.shadows`), at the points each mode shades:
+
 * **flat** — one colour per triangle: the core shades the triangle's
   centroid with its geometric normal; VTK paints the whole face with it.
 * **gouraud** — the core shades every vertex with its normal; VTK
@@ -27,18 +31,22 @@ from __future__ import annotations
 import numpy as np
 
 from phonglab.core.display import display_bytes, display_values
+from phonglab.render import shadows
 from phonglab.render.gbuffer import GBuffer
 from phonglab.render.mesh import face_centroids_normals
+from phonglab.render.objects import cell_objects, point_objects
 
 #: what a view can show: one term of the sum, or the whole colour
 TERMS = ("color", "ambient", "diffuse", "specular")
 
 
-def shade(scene, points, normals, mistake: str | None = None, *, scene_plan=None):
+def shade(scene, points, normals, mistake: str | None = None, *, scene_plan=None, objects=None, cache=None):
     """The core's shading of ``points`` with ``normals`` under ``scene``.
 
     A thin wrapper over :func:`phonglab.scene.shade` (which passes the
-    scene's material, lights, eye, model, two-sidedness and plan to the core).
+    scene's materials, lights, eye, model, two-sidedness and plan to the
+    core), with the scene's shadows cast here when it has them
+    (:func:`phonglab.render.shadows.visibility`).
 
     Parameters
     ----------
@@ -51,15 +59,25 @@ def shade(scene, points, normals, mistake: str | None = None, *, scene_plan=None
     scene_plan : phonglab.scene.ScenePlan, optional
         ``plan(scene)`` when the caller has made it already (it is not made
         again); None plans here. The colours are the same either way.
+    objects : array_like of int, optional
+        The object each point lies on (None: the first).
+    cache : tuple, optional
+        What the points are (``("vertex",)``, ``("face",)``, or a G-buffer's
+        key): their shadows are kept while the objects, lights and bias stay.
 
     Raises
     ------
     ValueError
         For an unknown mistake name (the message lists the names allowed).
     """
-    from phonglab.scene.planner import shade as scene_shade
+    from phonglab.scene.planner import plan, shade as scene_shade
 
-    return scene_shade(scene, points, normals, mistake=mistake, scene_plan=scene_plan)
+    seen = None
+    if scene.shadows:
+        scene_plan = scene_plan or plan(scene)  # once, for the shadows and the shading
+        seen = shadows.visibility(scene, points, objects, scene_plan=scene_plan, cache=cache)
+    return scene_shade(scene, points, normals, mistake=mistake, scene_plan=scene_plan, objects=objects,
+                       visibility=seen)
 
 
 def get_mistake(name: str):
@@ -137,7 +155,7 @@ def vertex_colors(scene, mesh, terms=("color",), mistake: str | None = None, *,
     ``scene_plan``: ``plan(scene)`` if the caller has it (see :func:`shade`).
     """
     shading = shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"]), mistake,
-                    scene_plan=scene_plan)
+                    scene_plan=scene_plan, objects=point_objects(mesh), cache=("vertex",))
     return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
 
 
@@ -166,7 +184,8 @@ def face_colors(scene, mesh, terms=("color",), mistake: str | None = None, *,
     ``scene_plan``: ``plan(scene)`` if the caller has it (see :func:`shade`).
     """
     centroids, normals = _faces(mesh)
-    shading = shade(scene, centroids, normals, mistake, scene_plan=scene_plan)
+    shading = shade(scene, centroids, normals, mistake, scene_plan=scene_plan, objects=cell_objects(mesh),
+                    cache=("face",))
     return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
 
 
@@ -211,7 +230,9 @@ def _pixel_shading(scene, gbuffer: GBuffer, mistake: str | None, *, scene_plan=N
             raise ValueError(f"gbuffer: the mistake {mistake!r} needs the raw interpolated normals, "
                              "and this G-buffer has none")
         normals = gbuffer.raw_normals
-    return shade(scene, gbuffer.positions[mask], normals[mask], mistake, scene_plan=scene_plan)
+    objects = None if gbuffer.objects is None else gbuffer.objects[mask]
+    return shade(scene, gbuffer.positions[mask], normals[mask], mistake, scene_plan=scene_plan, objects=objects,
+                 cache=("pixel", gbuffer))
 
 
 def pixel_linear(scene, gbuffer: GBuffer, term: str = "color", mistake: str | None = None) -> np.ndarray:

@@ -2,10 +2,12 @@
 
 What the window holds:
 
-* the mesh, coloured by the core (RGB scalars, VTK lighting off): per face
-  (flat) or per vertex (gouraud, and pixel mode's preview);
+* the mesh of every object (:func:`~phonglab.render.objects.scene_mesh`),
+  coloured by the core (RGB scalars, VTK lighting off), each object with its
+  own material and, with ``shadows``, the lights its points' shadow rays
+  reach: per face (flat) or per vertex (gouraud, and pixel mode's preview);
 * arrows N, L, R, V, H at the probe point, in fixed colours, half as long
-  as the mesh's bounding radius;
+  as the (smallest) object's bounding radius;
 * a marker per light (a sphere for a point light, a cone for a spotlight,
   three parallel arrows for a directional light) and an eye marker (shown
   only when the VTK camera has left the scene's eye);
@@ -59,7 +61,7 @@ from phonglab.render._vtk import make_render_window, set_camera
 from phonglab.render.arrows import ProbeArrows
 from phonglab.render.annotate import draw_labels, draw_legend
 from phonglab.render.camera import CameraState, check_camera
-from phonglab.render.mesh import build_mesh
+from phonglab.render.objects import scene_mesh, smallest_radius
 from phonglab.render.probe import directed_light_index
 from phonglab.render.saving import save_png
 from phonglab.scene import Scene
@@ -170,7 +172,7 @@ class SceneView:
 
         # the shaded mesh: one actor for the whole life of the view
         self._mapper, self._mesh_actor = actors.mesh_actor(self.renderer)
-        self._set_mesh(build_mesh(scene.geometry))
+        self._set_mesh(scene_mesh(scene))
 
         # glyphs: an actor per arrow, per light, the eye and the area light
         self._glyphs = actors.Glyphs(self.renderer, self.size[1], vtk_text=vtk_text)
@@ -186,7 +188,7 @@ class SceneView:
         """Show a new mesh (geometry changed): colour arrays sized for it."""
         actors.show_mesh(self._mapper, mesh)
         self.mesh = mesh
-        self._arrows.length = glyphs.arrow_length(mesh)
+        self._arrows.length = glyphs.ARROW_FRACTION * smallest_radius(mesh)
         self._gbuffers.clear()
         self._cull()
 
@@ -254,7 +256,7 @@ class SceneView:
         if not needs:
             return
         if "mesh" in needs:
-            self._set_mesh(build_mesh(scene.geometry))
+            self._set_mesh(scene_mesh(scene))
         if "camera" in needs:
             set_camera(self.renderer.GetActiveCamera(), scene.camera)
             self._gbuffers.clear()

@@ -8,8 +8,8 @@ for, and :func:`shade` runs the core on the scene's mesh points with that plan;
 
 The modules import one way, each only those listed before it::
 
-    errors, schema -> claims -> checks -> meshsize -> paths -> limits -> parts -> build -> check -> fieldpath -> editing
-    -> model -> loader -> lessons -> planner
+    errors, schema -> claims -> checks -> meshsize -> paths -> limits -> objects -> parts -> build -> check
+    -> fieldpath -> editing -> model -> loader -> lessons -> shadowplan -> planner
 
 (``toml_lines`` stands alone.) ``Scene.replace`` is a method of ``model.Scene``
 calling :mod:`~phonglab.scene.editing`, which works on any scene it is given.
@@ -20,7 +20,7 @@ This package imports NumPy and the core only: no PyVista, no VTK.
 from phonglab.scene.errors import SceneError, SceneErrors
 from phonglab.scene.schema import GEOMETRY_KINDS, INTERPOLATIONS, MODELS, PARAMETRIC_KINDS
 from phonglab.scene.paths import MESH_EXTENSIONS, PYVISTA_MESHES, pyvista_mesh_path
-from phonglab.scene.model import Camera, Experiment, Geometry, Lesson, Scene
+from phonglab.scene.model import Camera, Experiment, Geometry, Lesson, Scene, SceneObject
 from phonglab.scene.fieldpath import field_value, parse_path, parse_setting, parse_value, scene_to_dict
 from phonglab.scene.loader import lesson_files, load_scene, scene_from_dict
 from phonglab.scene.lessons import Entry, catalog, list_lessons, load, load_entry, load_lesson
@@ -33,6 +33,7 @@ __all__ = [
     "Geometry",
     "Lesson",
     "Scene",
+    "SceneObject",
     "SceneError",
     "SceneErrors",
     "ScenePlan",

@@ -26,6 +26,7 @@ from phonglab import core
 from phonglab.scene.checks import check_bool, check_choice, check_number, check_shape, check_text, check_vector
 from phonglab.scene.errors import SceneError, SceneErrors, did_you_mean, join_path
 from phonglab.scene.limits import check_light_count, check_limits
+from phonglab.scene.objects import SceneObject, check_object_count, check_total_triangles
 from phonglab.scene.parts import AreaLightSetup, Camera, Geometry
 from phonglab.scene.paths import find_mesh_file
 from phonglab.scene.schema import (
@@ -43,8 +44,10 @@ from phonglab.scene.schema import (
     MATERIAL_KEYS,
     MATERIAL_REQUIRED,
     MODELS,
+    OBJECT_KEYS,
     SCENE_DEFAULTS,
     SCENE_KEYS,
+    SHADOW_BIAS_RANGE,
     limit_rule,
 )
 from phonglab.scene.toml_lines import render_key
@@ -274,24 +277,75 @@ def build_area_light(data, problems: Problems, path="area_light") -> AreaLightSe
 # the scene's own parts
 
 
-def build_geometry(data, problems: Problems, base_dir=None, known=None) -> Geometry | None:
+def build_geometry(data, problems: Problems, base_dir=None, known=None, path="geometry") -> Geometry | None:
     """The geometry, its mesh file checked on disk (relative paths resolved against ``base_dir``).
 
     A geometry equal to ``known`` (an edited scene's own, checked when it was
-    loaded) is taken as it is, without looking at the disk again.
+    loaded; or one of a tuple of them) is taken as it is, without looking at
+    the disk again.
     """
-    table = problems.table("geometry", data, GEOMETRY_KEYS, required=("kind",))
+    table = problems.table(path, data, GEOMETRY_KEYS, required=("kind",))
     if table is None or "kind" not in table:
         return None
+    known = known if isinstance(known, tuple) else (known,)
     try:
         geometry = Geometry(**{k: v for k, v in table.items() if k in GEOMETRY_KEYS})
-        if geometry == known:
-            return known
-        path = find_mesh_file(geometry.kind, geometry.name, geometry.path, base_dir)
+        if geometry in known:
+            return geometry
+        found = find_mesh_file(geometry.kind, geometry.name, geometry.path, base_dir)
     except SceneError as exc:
-        problems.add(exc.located(field="geometry"))
+        problems.add(exc.located(field=path))
         return None
-    return dataclasses.replace(geometry, path=path) if geometry.kind == "file" else geometry
+    return dataclasses.replace(geometry, path=found) if geometry.kind == "file" else geometry
+
+
+def build_objects(data, problems: Problems, base_dir=None, known=None) -> tuple[SceneObject, ...] | None:
+    """The ``[[objects]]`` tables as SceneObjects, or None after recording their problems.
+
+    The count is checked before any object is built, and the triangles of all
+    the meshes together (read from the shapes and the mesh files' headers)
+    before any mesh is built. Names must be given and differ. A translucent
+    material (``opacity`` below 1) needs a scene of one object.
+    """
+    if not isinstance(data, list):
+        problems.add(SceneError("must be a list of [[objects]] tables", field="objects", value=data))
+        return None
+    try:
+        check_object_count(len(data))
+    except SceneError as exc:
+        problems.add(exc)
+        return None
+    start = len(problems.errors)
+    built, names = [], {}
+    for i, item in enumerate(data):
+        path = f"objects[{i}]"
+        table = problems.table(path, item, OBJECT_KEYS, required=OBJECT_KEYS)
+        if table is None:
+            continue
+        name = problems.run(check_text, join_path(path, "name"), table["name"]) if "name" in table else None
+        if name is not None and not name.strip():
+            problems.add(SceneError("must not be empty: the page names the object by it", field=join_path(path, "name"),
+                                    value=name))
+        elif name is not None and name in names:
+            problems.add(SceneError(f"must differ from objects[{names[name]}].name", field=join_path(path, "name"),
+                                    value=name))
+        elif name is not None:
+            names[name] = i
+        geometry = (build_geometry(table["geometry"], problems, base_dir, known, join_path(path, "geometry"))
+                    if "geometry" in table else None)
+        material = (build_material(table["material"], problems, join_path(path, "material"))
+                    if "material" in table else None)
+        built.append(SceneObject(name, geometry, material))
+    if len(problems.errors) != start:
+        return None
+    problems.run(check_total_triangles, [o.geometry for o in built])
+    if len(built) > 1:
+        for i, obj in enumerate(built):
+            if obj.material.opacity < 1:
+                problems.add(SceneError("must be 1 in a scene of several objects: a translucent surface is blended "
+                                        "over one object only", field=f"objects[{i}].material.opacity",
+                                        value=obj.material.opacity))
+    return tuple(built) if len(problems.errors) == start else None
 
 
 def build_camera(data, problems: Problems) -> Camera | None:
@@ -314,6 +368,8 @@ _OPTION_CHECKS = {
     "title": check_text,
     "display": lambda p, v: check_choice(p, v, DISPLAYS),
     "exposure": lambda p, v: check_number(p, v, low=0, low_open=True),
+    "shadows": check_bool,
+    "shadow_bias": lambda p, v: check_number(p, v, low=SHADOW_BIAS_RANGE[0], high=SHADOW_BIAS_RANGE[1]),
 }
 
 
@@ -330,14 +386,32 @@ def scene_parts(data: dict, problems: Problems, *, extra_keys=(), base_dir=None,
         Further top-level keys allowed (a lesson's).
     base_dir : path, optional
         Folder against which a relative ``geometry.path`` is resolved.
-    known_geometry : Geometry, optional
+    known_geometry : Geometry or tuple of Geometry, optional
         Taken as it is when ``data`` describes it (see :func:`build_geometry`).
+
+    Notes
+    -----
+    The objects are given either as ``[geometry]`` and ``[material]`` (one
+    object) or as ``[[objects]]``, not both; the first object's geometry and
+    material become the scene's ``geometry`` and ``material``.
     """
     start = len(problems.errors)
-    problems.table("", data, SCENE_KEYS + tuple(extra_keys), required=("geometry", "material"))
-    parts = dict(SCENE_DEFAULTS, area_light=None)
-    parts["geometry"] = build_geometry(data["geometry"], problems, base_dir, known_geometry) if "geometry" in data else None
-    parts["material"] = build_material(data["material"], problems) if "material" in data else None
+    several = "objects" in data
+    problems.table("", data, SCENE_KEYS + tuple(extra_keys), required=() if several else ("geometry", "material"))
+    parts = dict(SCENE_DEFAULTS, area_light=None, objects=())
+    if several:
+        for key in ("geometry", "material"):
+            if key in data:
+                problems.add(SceneError("cannot be given next to [[objects]]: list every object there, with its "
+                                        "geometry and material", field=key))
+        objects = build_objects(data["objects"], problems, base_dir, known_geometry)
+        parts["objects"] = objects or ()
+        parts["geometry"] = objects[0].geometry if objects else None
+        parts["material"] = objects[0].material if objects else None
+    else:
+        parts["geometry"] = (build_geometry(data["geometry"], problems, base_dir, known_geometry)
+                             if "geometry" in data else None)
+        parts["material"] = build_material(data["material"], problems) if "material" in data else None
     lights = []
     raw_lights = data.get("lights", [])
     if not isinstance(raw_lights, list):

@@ -107,7 +107,8 @@ def _build(scene, data: dict):
     """
     base_dir = Path(scene.source).resolve().parent if scene.source else None
     problems = Problems()
-    parts = scene_parts(data, problems, base_dir=base_dir, known_geometry=scene.geometry)
+    known = tuple(o.geometry for o in scene.all_objects)
+    parts = scene_parts(data, problems, base_dir=base_dir, known_geometry=known)
     problems.raise_all()
     return dataclasses.replace(scene, **parts)
 
@@ -123,6 +124,10 @@ def _assign(data: dict, path: str, value) -> None:
             data["lights"][parts[1]], value, camera.get("focal_point", (0.0, 0.0, 0.0)), camera.get("eye", (0.0, 0.0, 4.0))
         )
         return
+    if parts == ["objects"]:
+        # the objects listed anew: they replace the scene's [geometry] and [material], if it had those
+        data.pop("geometry", None)
+        data.pop("material", None)
     if isinstance(container, list):
         container[key] = value
     elif value is None:

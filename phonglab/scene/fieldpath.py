@@ -2,7 +2,9 @@
 
 A field path names a value as a scene file writes it: ``model``,
 ``material.ks``, ``lights[1].position``, ``lights[1].position[2]``,
-``camera.eye``, ``geometry.resolution``. The web app's state keys and the
+``camera.eye``, ``geometry.resolution``, ``objects[1].material.kd``. In a
+scene of several objects, ``geometry`` and ``material`` name the first
+object's (``objects[0].material.ks``). The web app's state keys and the
 command line's ``--set PATH=VALUE`` use these paths.
 
 :func:`scene_to_dict` gives a scene's file form (the dictionary its TOML file
@@ -25,6 +27,7 @@ from phonglab.scene.schema import (
     MAX_VALUE_CHARS,
     LIGHT_KEYS,
     MATERIAL_KEYS,
+    OBJECT_KEYS,
     SCENE_KEYS,
     light_type,
     table_light_type,
@@ -74,6 +77,14 @@ def check_path_shape(path: str) -> list[str | int]:
     """
     parts = parse_path(path)
     tables = {"geometry": GEOMETRY_KEYS, "material": MATERIAL_KEYS, "camera": CAMERA_KEYS}
+    if parts[0] == "objects" and len(parts) > 1:
+        if not isinstance(parts[1], int):
+            raise SceneError("must index an object, as in objects[1].material.ks", field=path)
+        if len(parts) > 2 and parts[2] not in OBJECT_KEYS:
+            raise no_field(path, parts, 2, OBJECT_KEYS)
+        if len(parts) > 3 and parts[2] in tables and parts[3] not in tables[parts[2]]:
+            raise no_field(path, parts, 3, tables[parts[2]])
+        return parts
     light_keys = ("type", "homogeneous") + tuple(dict.fromkeys(k for keys in LIGHT_KEYS.values() for k in keys))
     if parts[0] not in SCENE_KEYS:
         raise no_field(path, parts, 0, SCENE_KEYS)
@@ -117,15 +128,31 @@ def light_to_dict(light) -> dict:
     return table
 
 
-def scene_to_dict(scene) -> dict:
-    """The scene as the dictionary its TOML file would parse to."""
-    g = scene.geometry
+def geometry_to_dict(g) -> dict:
+    """A Geometry as its ``[geometry]`` table (``center`` and ``scale`` only when they are not the defaults)."""
     geometry = {"kind": g.kind, "resolution": g.resolution}
     if g.name is not None:
         geometry["name"] = g.name
     if g.path is not None:
         geometry["path"] = g.path
-    m = scene.material
+    if any(g.center):
+        geometry["center"] = list(g.center)
+    if g.scale != 1.0:
+        geometry["scale"] = g.scale
+    return geometry
+
+
+def material_to_dict(m) -> dict:
+    """A core Material as its ``[material]`` table."""
+    return {k: plain(getattr(m, k)) for k in MATERIAL_KEYS}
+
+
+def scene_to_dict(scene) -> dict:
+    """The scene as the dictionary its TOML file would parse to.
+
+    A scene of one unnamed object is written with ``geometry`` and
+    ``material``; any other with ``objects``, a table per object.
+    """
     data = {
         "title": scene.title,
         "model": scene.model,
@@ -133,11 +160,16 @@ def scene_to_dict(scene) -> dict:
         "two_sided": scene.two_sided,
         "display": scene.display,
         "exposure": scene.exposure,
-        "geometry": geometry,
-        "material": {k: plain(getattr(m, k)) for k in MATERIAL_KEYS},
-        "lights": [light_to_dict(light) for light in scene.lights],
-        "camera": {k: plain(getattr(scene.camera, k)) for k in CAMERA_KEYS},
+        "shadows": scene.shadows,
+        "shadow_bias": scene.shadow_bias,
     }
+    if scene.objects:
+        data["objects"] = [{"name": o.name, "geometry": geometry_to_dict(o.geometry),
+                            "material": material_to_dict(o.material)} for o in scene.objects]
+    else:
+        data.update(geometry=geometry_to_dict(scene.geometry), material=material_to_dict(scene.material))
+    data.update(lights=[light_to_dict(light) for light in scene.lights],
+                camera={k: plain(getattr(scene.camera, k)) for k in CAMERA_KEYS})
     if scene.probe is not None:
         data["probe"] = list(scene.probe)
     if scene.area_light is not None:
@@ -151,10 +183,12 @@ def keys_for(data: dict, parts: list) -> tuple[str, ...] | None:
     """The keys allowed in the table at ``parts``; None when it is not a table of the format."""
     if not parts:
         return SCENE_KEYS
-    if parts == ["geometry"]:
+    if parts == ["geometry"] or (len(parts) == 3 and parts[0] == "objects" and parts[2] == "geometry"):
         return GEOMETRY_KEYS
-    if parts == ["material"]:
+    if parts == ["material"] or (len(parts) == 3 and parts[0] == "objects" and parts[2] == "material"):
         return MATERIAL_KEYS
+    if len(parts) == 2 and parts[0] == "objects":
+        return OBJECT_KEYS
     if parts == ["camera"]:
         return CAMERA_KEYS
     if parts == ["area_light"]:
@@ -180,8 +214,20 @@ def homogeneous_of(light: dict) -> list:
     return list(light["direction"]) + [0.0]
 
 
+def object_parts(data: dict, parts: list) -> list:
+    """``parts`` with ``geometry``/``material`` read as the first object's in a scene written with ``objects``.
+
+    The page's ``material.ks`` and ``--set geometry.scale=2`` mean the first
+    object of any scene.
+    """
+    if parts and parts[0] in ("geometry", "material") and "objects" in data and parts[0] not in data:
+        return ["objects", 0] + list(parts)
+    return parts
+
+
 def locate_field(data: dict, path: str, parts: list):
     """Walk ``parts`` through ``data``; return (container, key) of the field, checked against the format."""
+    parts = object_parts(data, parts)
     node = data
     for i, part in enumerate(parts):
         last = i == len(parts) - 1
@@ -200,7 +246,7 @@ def locate_field(data: dict, path: str, parts: list):
             if not isinstance(node, list):
                 raise SceneError(f"{format_path(parts[:i])} is not a list", field=path)
             if part >= len(node):
-                what = "light" if parts[:i] == ["lights"] else "item"
+                what = {"lights": "light", "objects": "object"}.get(parts[i - 1], "item") if i == 1 else "item"
                 count = f"{len(node)} {what}s" if len(node) != 1 else f"1 {what}"
                 rule = f"index must be below {len(node)}" if node else "the list is empty"
                 raise SceneError(f"no such {what}: {rule} ({count})", field=path)

@@ -121,11 +121,15 @@ def shaded_points(scene_or_parts, *, pixels: int | None = None) -> tuple[int | N
     """``(vertices, pixels)`` a scene's area light is evaluated at: one of them is None.
 
     A per-pixel scene shades ``pixels`` points (:data:`PIXEL_PICTURE` when
-    None); any other shades its mesh's vertices.
+    None); any other shades its mesh's vertices (every object's).
     """
     get = scene_or_parts.get if isinstance(scene_or_parts, dict) else lambda key: getattr(scene_or_parts, key)
     if get("interpolation") == "pixel":
         return None, int(pixels if pixels is not None else PIXEL_PICTURE)
+    objects = get("objects") or ()
+    if len(objects) > 1:  # every object's vertices are shaded
+        counts = [mesh_vertex_count(o.geometry) for o in objects]
+        return (None if None in counts else sum(counts)), None
     return mesh_vertex_count(get("geometry")), None
 
 

@@ -1,7 +1,9 @@
 """The scene model: frozen dataclasses describing what phonglab shows.
 
-A :class:`Scene` holds one mesh (:class:`Geometry`), one core ``Material``,
-a tuple of core lights, a :class:`Camera` and the shading options. A
+A :class:`Scene` holds its objects (:class:`SceneObject`: a mesh, :class:`Geometry`,
+placed in the scene, and its core ``Material``; the first one is also
+``Scene.geometry`` and ``Scene.material``), a tuple of core lights, a
+:class:`Camera` and the shading options. A
 :class:`Lesson` wraps a scene with the text and controls of one lesson; an
 :class:`Experiment` is one of its "try this" steps.
 
@@ -16,11 +18,13 @@ and line to the same errors.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 from phonglab import core
 from phonglab.scene.editing import replace_field, replace_fields
 from phonglab.scene.errors import SceneError, SceneErrors, did_you_mean, join_path, show_value
+from phonglab.scene.objects import SceneObject
 from phonglab.scene.parts import AreaLightSetup, Camera, Geometry
 from phonglab.scene.schema import (
     AREA_METHODS,
@@ -71,7 +75,9 @@ class Scene:
     Parameters
     ----------
     geometry : Geometry
+        The (first) object's mesh.
     material : phonglab.core.Material
+        The (first) object's material.
     lights : tuple of core lights
         ``AmbientLight``, ``PointLight``, ``DirectionalLight``, ``SpotLight``.
     camera : Camera
@@ -100,6 +106,20 @@ class Scene:
     exposure : float
         Radiance is multiplied by this (> 0) before it is clipped to [0, 1]
         and encoded; below 1 brings an over-exposed highlight back.
+    objects : tuple of SceneObject
+        Every object of the scene, the first one included: its geometry and
+        material are always ``geometry`` and ``material`` (set those to change
+        it). Empty for a scene written with one ``[geometry]`` and one
+        ``[material]``; :attr:`all_objects` lists the objects either way.
+    shadows : bool
+        Cast a shadow ray from every shaded point to every point, spot and
+        directional light: a light blocked by an object adds neither diffuse
+        nor specular light there.
+    shadow_bias : float
+        Where a shadow ray starts: this far (scene units) from the surface
+        point towards the light. Too small and a surface shadows itself
+        (acne); too large and an object close to the point is passed over
+        (light leaks under it).
     """
 
     geometry: Geometry
@@ -115,9 +135,22 @@ class Scene:
     area_light: "AreaLightSetup | None" = None
     display: str = SCENE_DEFAULTS["display"]
     exposure: float = SCENE_DEFAULTS["exposure"]
+    objects: tuple = ()
+    shadows: bool = SCENE_DEFAULTS["shadows"]
+    shadow_bias: float = SCENE_DEFAULTS["shadow_bias"]
 
     def __post_init__(self):
         object.__setattr__(self, "lights", tuple(self.lights))  # a list given in code is stored as a tuple
+        objects = tuple(self.objects)
+        if objects and (objects[0].geometry != self.geometry or objects[0].material != self.material):
+            # the first object is the scene's geometry and material
+            objects = (dataclasses.replace(objects[0], geometry=self.geometry, material=self.material),) + objects[1:]
+        object.__setattr__(self, "objects", objects)
+
+    @property
+    def all_objects(self) -> tuple[SceneObject, ...]:
+        """Every object, the first one included; one unnamed object for a scene without ``[[objects]]``."""
+        return self.objects or (SceneObject("", self.geometry, self.material),)
 
     @staticmethod
     def changes(old: "Scene", new: "Scene") -> Changes:
@@ -133,7 +166,8 @@ class Scene:
         frozenset({'colours'})
         """
         fields = frozenset(f.name for f in SCENE_FIELDS if getattr(old, f.name) != getattr(new, f.name))
-        needs = frozenset().union(*(f.needs for f in SCENE_FIELDS if f.name in fields))
+        needs = frozenset().union(*(f.needs_of(getattr(old, f.name), getattr(new, f.name))
+                                    for f in SCENE_FIELDS if f.name in fields))
         return Changes(fields, needs)
 
     def replace(self, path: str, value) -> "Scene":
@@ -259,6 +293,7 @@ __all__ = [
     "Geometry",
     "Lesson",
     "Scene",
+    "SceneObject",
     "SceneError",
     "SceneErrors",
     "AREA_METHODS",

@@ -17,8 +17,16 @@ from phonglab import core
 from phonglab.scene.checks import check_bool, check_choice, check_int, check_number, check_vector, collect, setter
 from phonglab.scene.errors import SceneError
 from phonglab.scene.limits import check_coordinates
+from phonglab.scene.objects import SCALE_RANGE
 from phonglab.scene.paths import check_geometry_source
 from phonglab.scene.schema import AREA_METHODS, AREA_SAMPLES_RANGE, GEOMETRY_KINDS, RESOLUTION_RANGE
+
+
+def _check_center(value) -> tuple[float, float, float]:
+    """Three finite numbers within the coordinate bound."""
+    center = check_vector("center", value)
+    check_coordinates("center", center)
+    return center
 
 
 @dataclass(frozen=True)
@@ -41,12 +49,28 @@ class Geometry:
         For ``kind="file"``: the mesh file. The loader resolves a relative path
         against the scene file's folder, then ``assets/``, checks that the
         file exists and stores it absolute; the dataclass does not look at files.
+    center : tuple of 3 floats
+        Where the shape's own origin is placed in the scene (default the origin).
+    scale : float
+        How much the shape is enlarged about its own origin, before it is
+        moved to ``center``; from 0.001 to 1000 (default 1).
+
+    Notes
+    -----
+    Each shape is built at scale 1 around the origin
+    (:func:`phonglab.render.mesh.build_mesh`): a sphere of radius 1, a plane
+    of side 2.4 lying in z = 0 with its normal +z, a mesh file fitted to the
+    unit sphere. A point ``p`` of that shape is placed at
+    ``center + scale · p``; normals are unchanged (the scale is the same
+    along every axis and positive).
     """
 
     kind: str
     resolution: int = 48
     name: str | None = None
     path: str | None = None
+    center: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    scale: float = 1.0
 
     def __post_init__(self):
         collect(
@@ -55,6 +79,8 @@ class Geometry:
                 setter(
                     self, "resolution", lambda v: check_int("resolution", v, low=RESOLUTION_RANGE[0], high=RESOLUTION_RANGE[1])
                 ),
+                setter(self, "center", _check_center),
+                setter(self, "scale", lambda v: check_number("scale", v, low=SCALE_RANGE[0], high=SCALE_RANGE[1])),
             ]
         )
         # a name for shipped meshes, a path for kind="file"; the files themselves are checked at load

@@ -36,6 +36,8 @@ AREA_METHODS = core.AREA_METHODS
 AREA_SAMPLES_RANGE = (1, 4096)
 #: how linear light is encoded for the screen (see phonglab.core.display)
 DISPLAYS = DISPLAY_ENCODINGS
+#: the shadow ray's offset (scene units): it starts this far from the surface point, towards the light
+SHADOW_BIAS_RANGE = (0.0, 10.0)
 
 # ---------------------------------------------------------------------------
 # the scene's fields: one entry each, and what a change of it needs
@@ -71,15 +73,30 @@ class SceneField:
     mirrors : tuple of str
         The field paths that get a value control of their own (the page's
         state keys for the file form, :func:`phonglab.app.controls.field_mirrors`).
+    parts : mapping str -> iterable of str, optional
+        For a field that lists items (``objects``): what a change of each
+        attribute of an item needs. :meth:`Scene.changes` then adds up the
+        needs of the attributes that differ (a new material of the second
+        object needs only the colours), and ``needs`` when the items are
+        added or removed.
     """
 
-    __slots__ = ("name", "needs", "default", "mirrors")
+    __slots__ = ("name", "needs", "default", "mirrors", "parts")
 
-    def __init__(self, name: str, needs=(), *, default=_NO_DEFAULT, mirrors=()):
-        unknown = set(needs) - set(NEEDS)
+    def __init__(self, name: str, needs=(), *, default=_NO_DEFAULT, mirrors=(), parts=None):
+        parts = {key: frozenset(value) for key, value in (parts or {}).items()}
+        unknown = (set(needs) | set().union(*parts.values())) - set(NEEDS)
         if unknown:
             raise ValueError(f"SceneField {name!r}: unknown needs {sorted(unknown)}; allowed: {', '.join(NEEDS)}")
         self.name, self.needs, self.default, self.mirrors = name, frozenset(needs), default, tuple(mirrors)
+        self.parts = parts
+
+    def needs_of(self, old, new) -> frozenset:
+        """What changing this field from ``old`` to ``new`` needs (the needs of the parts that differ)."""
+        if not self.parts or len(old) != len(new):
+            return self.needs
+        return frozenset().union(*(needs for key, needs in self.parts.items()
+                                   if any(getattr(a, key) != getattr(b, key) for a, b in zip(old, new))))
 
     @property
     def option(self) -> bool:
@@ -105,6 +122,12 @@ SCENE_FIELDS = (
     SceneField("material", {"colours"}, mirrors=tuple(f"material.{k}" for k in
                                                       ("ka", "kd", "ks", "shininess", "emission", "roughness",
                                                        "metallic"))),
+    # every object, the first one included (whose geometry and material are the two fields above)
+    SceneField("objects", {"mesh", "colours", "probe", "vectors"},
+               parts={"name": {"vectors"}, "geometry": {"mesh", "colours", "probe", "vectors"},
+                      "material": {"colours"}}),
+    SceneField("shadows", {"colours"}, default=False, mirrors=("shadows",)),
+    SceneField("shadow_bias", {"colours"}, default=1e-3, mirrors=("shadow_bias",)),
     SceneField("lights", {"colours", "vectors", "markers"}),
     SceneField("camera", {"camera", "colours", "default probe", "vectors", "markers", "eye"},
                mirrors=("camera.infinite_viewer",)),
@@ -122,7 +145,9 @@ SCENE_DEFAULTS = {f.name: f.default for f in SCENE_FIELDS if f.option}
 SCENE_KEYS = tuple(f.name for f in SCENE_FIELDS)
 #: further top-level keys of a lesson's front matter
 LESSON_KEYS = ("number", "goal", "controls", "experiments", "question", "answer", "mistake", "claims", "check")
-GEOMETRY_KEYS = ("kind", "resolution", "name", "path")
+GEOMETRY_KEYS = ("kind", "resolution", "name", "path", "center", "scale")
+#: an ``[[objects]]`` table: one object of a scene with several
+OBJECT_KEYS = ("name", "geometry", "material")
 MATERIAL_KEYS = ("ka", "kd", "ks", "shininess", "emission", "opacity", "roughness", "metallic")
 MATERIAL_REQUIRED = ("ka", "kd", "ks", "shininess")
 CAMERA_KEYS = ("eye", "focal_point", "up", "view_angle", "infinite_viewer")
@@ -273,8 +298,8 @@ CLAIM_FUNCTIONS = {
                    "point (the accuracy study's panel and floor, RMS over 4 seeds)"),
     "area_ratio": ((), "point-light approximation over the exact area-light irradiance, directly under the "
                        "panel's centre"),
-    "blocked": ((), "1 when the straight line from the probe to the first directed light crosses the surface "
-                    "(the point would be in its shadow; the model does not look), else 0"),
+    "blocked": ((), "1 when the straight line from the probe to the first directed light crosses a surface "
+                    "(the point is in its shadow; the model looks only with shadows = true), else 0"),
     "sum_gap": ((CHANNELS + ("?",),), "the largest difference, over the picture's pixels, between the colour and "
                                       "the sum of its terms (the model's numbers)"),
     "albedo": ((("cook-torrance", "phong", "phong-normalised"), "number", "number"),
@@ -309,6 +334,10 @@ MAX_MESH_TRIANGLES = 2_000_000
 MAX_LIGHTS = 16
 #: largest display exposure (see phonglab.core.model: with it, every shaded value stays finite in float32)
 EXPOSURE_LIMIT = MAX_EXPOSURE
+#: most objects in one scene ([[objects]])
+MAX_OBJECTS = 16
+#: most triangles all of a scene's objects may have together: as many as one mesh file may hold
+MAX_SCENE_TRIANGLES = MAX_MESH_TRIANGLES
 #: largest |coordinate| of a position, direction, eye, focal point or up vector, in scene units
 #: (the meshes fit the unit sphere; beyond this, distances squared overflow float32)
 MAX_COORDINATE = 1e6
