@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import phonglab as pl
+from phonglab.core.model import MAX_EXPONENT
 
 mpmath.mp.dps = 50
 F32, F64 = np.float32, np.float64
@@ -250,14 +251,23 @@ def test_log1p_neg_matches_mpmath_including_where_1_minus_d_rounds_to_1(dtype):
     assert log1p_neg(np.array([0.0], dtype))[0] == 0
 
 
-@pytest.mark.parametrize("alpha", [1e-300, 1e-50, 1e300])
+@pytest.mark.parametrize("alpha", [1e-300, 1e-50, MAX_EXPONENT])
 def test_shininess_outside_float32_range_gives_no_nan(alpha):
-    # 1e-300 rounds to 0 and 1e300 to inf in float32: neither may turn 0·inf into NaN
+    # 1e-300 rounds to 0 in float32, and the largest α a Material takes must not overflow: no 0·inf, no NaN
     mat = pl.Material(ka=0, kd=0, ks=1, shininess=alpha)
     rng = np.random.default_rng(3)
     p, n = rng.normal(size=(200, 3)).astype(F32), rng.normal(size=(200, 3)).astype(F32)
     s = pl.shade(p, n, eye=(0, 0, 6), material=mat, lights=[pl.PointLight(position=(1, 2, 3))])
     assert np.isfinite(s.color).all() and (s.specular >= 0).all(), alpha
+
+
+def test_the_power_guard_keeps_an_exponent_past_float32_finite():
+    # cos_power itself (the kernel's power) holds an α that rounds to inf in float32 below the largest float
+    from phonglab.core.vectors import cos_power
+
+    d_cos = np.array([0.0, 1e-30, 0.5, 1.0], F32)
+    got = cos_power(d_cos.copy(), np.ones(4, bool), 1e300)
+    assert np.isfinite(got).all() and got[0] == 1 and got[2] == 0 and got[3] == 0, got
 
 
 @pytest.mark.parametrize("dtype", DTYPES)

@@ -23,9 +23,12 @@ How it travels:
 Which settings (keys are field paths; :func:`setting_paths`):
 
 - scene fields in their file form: ``material.ka`` … ``material.emission``,
-  ``material.shininess``, ``lights[i].position`` / ``direction`` /
-  ``attenuation``, ``probe`` (numbers joined by commas; a grey coefficient
-  as one number);
+  ``material.shininess``, ``roughness``, ``metallic``, ``lights[i].position``
+  / ``direction`` / ``attenuation``, ``probe``, ``shadows``,
+  ``shadow_bias``, and in a scene of several objects each object's
+  ``objects[i].material.*`` and ``objects[i].geometry.kind`` /
+  ``resolution`` / ``center`` / ``scale`` (numbers joined by commas; a grey
+  coefficient as one number);
 - what a widget sets: ``lights[i].type``, ``lights[i].color`` (six hex
   digits, sRGB as the colour picker shows it), ``intensity``, ``cutoff``,
   ``no_cone``, ``exponent``; ``model``, ``interpolation``, ``two_sided``,
@@ -87,15 +90,16 @@ _PRESENTATION = re.compile(
     r"|lights\[\d+\]\.(azimuth|elevation|distance)|lights\[\d+\]\.attenuation\[\d+\]"
 )
 #: file-form fields whose three equal numbers may be written as one
-_GREY = re.compile(r"material\.(ka|kd|ks|emission)")
+_GREY = re.compile(r"(objects\[\d+\]\.)?material\.(ka|kd|ks|emission)")
 _HEX6 = re.compile(r"[0-9a-fA-F]{6}")
 _NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 #: scene fields an address may set in their file form (the scene checks the value)
 FILE_FIELDS = re.compile(
-    r"material\.(ka|kd|ks|shininess|emission|opacity)"
+    r"(objects\[\d+\]\.)?material\.(ka|kd|ks|shininess|emission|opacity|roughness|metallic)"
     r"|lights\[\d+\]\.(position|direction|color|intensity|attenuation|cutoff|exponent|diffuse|specular)"
     r"|camera\.(eye|focal_point|up|view_angle|infinite_viewer)"
-    r"|geometry\.(kind|resolution)|model|interpolation|two_sided|display|exposure|probe"
+    r"|(objects\[\d+\]\.)?geometry\.(kind|resolution|center|scale)"
+    r"|model|interpolation|two_sided|display|exposure|probe|shadows|shadow_bias"
     r"|area_light\.(position|edge_u|edge_v|color|intensity|method|samples)"
 )
 #: the default view options of a lesson (lesson_app resets to these)
@@ -265,9 +269,9 @@ def _fields(data, prefix=""):
     out = {}
     for key, value in data.items():
         path = f"{prefix}.{key}" if prefix else key
-        if key == "lights" and not prefix:
-            for i, light in enumerate(value):
-                out.update(_fields(light, f"lights[{i}]"))
+        if key in ("lights", "objects") and not prefix:
+            for i, item in enumerate(value):
+                out.update(_fields(item, f"{key}[{i}]"))
         elif isinstance(value, dict):
             out.update(_fields(value, path))
         else:
