@@ -46,8 +46,11 @@ def tab(browser, serve_app):
 def _settled(tab):
     drawn(tab)
     # the letters follow on the next animation frames (over the core's picture, once its camera is the view's)
+    # (or none at all: every tip hidden from the eye, as lesson 14's probe under the ball from behind it)
     tab.page.wait_for_function("() => { const l = document.querySelector('.phonglab-letters');"
-                               " return l && l.style.display !== 'none' && l.children.length > 0; }", timeout=60_000)
+                               " const tips = window.trame.state.get('arrow_tips') || [];"
+                               " return l && ((l.style.display !== 'none' && l.children.length > 0)"
+                               " || (tips.length > 0 && tips.every((t) => t.behind))); }", timeout=60_000)
     tab.page.evaluate("() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
 
 
@@ -66,7 +69,9 @@ def _misplaced(tab, what) -> list[str]:
             if other != item["letter"] and apart >= SAME_TIP and d_other <= d_own:
                 problems.append(f"{what}: {item['letter']} is {d_other:.1f} px from {other}'s tip, "
                                 f"{d_own:.1f} px from its own")
-    assert letters, f"{what}: no letters drawn"
+    if not letters:  # no letter is right only where the mesh hides every tip from the eye
+        tips = tab.state("arrow_tips") or []
+        assert tips and all(t["behind"] for t in tips), f"{what}: no letters drawn, tips {tips}"
     return problems
 
 
