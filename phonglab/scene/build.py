@@ -33,21 +33,18 @@ from phonglab.scene.schema import (
     AREA_LIGHT_KEYS,
     CAMERA_KEYS,
     CORE_FIELDS,
-    DISPLAYS,
     GEOMETRY_KEYS,
     HOMOGENEOUS_KEYS,
-    INTERPOLATIONS,
     LIGHT_CLASSES,
     LIGHT_KEYS,
     LIGHT_REQUIRED,
     MAX_LIGHTS,
     MATERIAL_KEYS,
     MATERIAL_REQUIRED,
-    MODELS,
     OBJECT_KEYS,
     SCENE_DEFAULTS,
+    SCENE_FIELDS,
     SCENE_KEYS,
-    SHADOW_BIAS_RANGE,
     limit_rule,
 )
 from phonglab.scene.toml_lines import render_key
@@ -360,17 +357,19 @@ def build_camera(data, problems: Problems) -> Camera | None:
 
 
 #: scene option -> check(path, value)
-_OPTION_CHECKS = {
-    "model": lambda p, v: check_choice(p, v, MODELS),
-    "interpolation": lambda p, v: check_choice(p, v, INTERPOLATIONS),
-    "two_sided": check_bool,
-    "probe": check_vector,
-    "title": check_text,
-    "display": lambda p, v: check_choice(p, v, DISPLAYS),
-    "exposure": lambda p, v: check_number(p, v, low=0, low_open=True),
-    "shadows": check_bool,
-    "shadow_bias": lambda p, v: check_number(p, v, low=SHADOW_BIAS_RANGE[0], high=SHADOW_BIAS_RANGE[1]),
-}
+def option_check(field):
+    """The check of a plain field's file value, from its entry's value rule (``SceneField.value``)."""
+    kind, *args = field.value
+    if kind == "choice":
+        return lambda path, value: check_choice(path, value, args[0])
+    if kind == "number":
+        low, high, low_open = args
+        return lambda path, value: check_number(path, value, low=low, high=high, low_open=low_open)
+    return {"bool": check_bool, "text": check_text, "vector": check_vector}[kind]
+
+
+#: the scene's plain fields (``model``, ``exposure``...) -> the check of a file's value, from SCENE_FIELDS
+_OPTION_CHECKS = {f.name: option_check(f) for f in SCENE_FIELDS if f.option}
 
 
 def scene_parts(data: dict, problems: Problems, *, extra_keys=(), base_dir=None, known_geometry=None) -> dict | None:

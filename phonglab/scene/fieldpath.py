@@ -28,6 +28,7 @@ from phonglab.scene.schema import (
     LIGHT_KEYS,
     MATERIAL_KEYS,
     OBJECT_KEYS,
+    SCENE_FIELDS,
     SCENE_KEYS,
     light_type,
     table_light_type,
@@ -153,16 +154,8 @@ def scene_to_dict(scene) -> dict:
     A scene of one unnamed object is written with ``geometry`` and
     ``material``; any other with ``objects``, a table per object.
     """
-    data = {
-        "title": scene.title,
-        "model": scene.model,
-        "interpolation": scene.interpolation,
-        "two_sided": scene.two_sided,
-        "display": scene.display,
-        "exposure": scene.exposure,
-        "shadows": scene.shadows,
-        "shadow_bias": scene.shadow_bias,
-    }
+    # the plain fields, from the schema's table (the probe is written below, when there is one)
+    data = {f.name: plain(getattr(scene, f.name)) for f in SCENE_FIELDS if f.option and f.name != "probe"}
     if scene.objects:
         data["objects"] = [{"name": o.name, "geometry": geometry_to_dict(o.geometry),
                             "material": material_to_dict(o.material)} for o in scene.objects]

@@ -56,6 +56,14 @@ NEEDS = {
 }
 
 _NO_DEFAULT = object()
+#: what a plain field's value may be in a file: kind -> its arguments
+VALUE_KINDS = {
+    "text": (),
+    "bool": (),
+    "choice": ("the allowed words",),
+    "number": ("low or None", "high or None", "whether low itself is refused"),
+    "vector": (),
+}
 
 
 class SceneField:
@@ -79,17 +87,26 @@ class SceneField:
         needs of the attributes that differ (a new material of the second
         object needs only the colours), and ``needs`` when the items are
         added or removed.
+    value : tuple, optional
+        For a plain value with a default: what a file may give, as
+        ``(kind, *arguments)`` of :data:`VALUE_KINDS` (``("choice",
+        MODELS)``, ``("number", low, high, low_open)``, ``("bool",)``...);
+        the loader checks the file's value with it and the file writer
+        writes the field back (:func:`phonglab.scene.build.option_check`).
     """
 
-    __slots__ = ("name", "needs", "default", "mirrors", "parts")
+    __slots__ = ("name", "needs", "default", "mirrors", "parts", "value")
 
-    def __init__(self, name: str, needs=(), *, default=_NO_DEFAULT, mirrors=(), parts=None):
-        parts = {key: frozenset(value) for key, value in (parts or {}).items()}
+    def __init__(self, name: str, needs=(), *, default=_NO_DEFAULT, mirrors=(), parts=None, value=None):
+        parts = {key: frozenset(v) for key, v in (parts or {}).items()}
         unknown = (set(needs) | set().union(*parts.values())) - set(NEEDS)
         if unknown:
             raise ValueError(f"SceneField {name!r}: unknown needs {sorted(unknown)}; allowed: {', '.join(NEEDS)}")
+        if (default is not _NO_DEFAULT) != (value is not None) or (value is not None and value[0] not in VALUE_KINDS):
+            raise ValueError(f"SceneField {name!r}: a field with a default needs a value rule (one of "
+                             f"{', '.join(VALUE_KINDS)}), a table field none; got {value!r}")
         self.name, self.needs, self.default, self.mirrors = name, frozenset(needs), default, tuple(mirrors)
-        self.parts = parts
+        self.parts, self.value = parts, value
 
     def needs_of(self, old, new) -> frozenset:
         """What changing this field from ``old`` to ``new`` needs (the needs of the parts that differ)."""
@@ -108,16 +125,18 @@ class SceneField:
 
 
 #: Every top-level field of a scene, in the order of the file format. A new field is one entry here (and
-#: its attribute of Scene, whose default this gives); the file keys, the defaults, what the view and the
-#: page redo on a change (Scene.changes) and the field's value controls all follow from it.
+#: its attribute of Scene, whose default this gives); the file keys, the defaults, how a file's value is
+#: checked and written back, what the view and the page redo on a change (Scene.changes) and the field's
+#: value controls all follow from it.
 SCENE_FIELDS = (
-    SceneField("title", default=""),
-    SceneField("model", {"colours"}, default="phong", mirrors=("model",)),
-    SceneField("interpolation", {"colours", "array"}, default="gouraud", mirrors=("interpolation",)),
-    SceneField("two_sided", {"colours", "vectors"}, default=False, mirrors=("two_sided",)),
-    SceneField("probe", {"probe", "vectors"}, default=None, mirrors=("probe",)),
-    SceneField("display", {"colours"}, default="srgb", mirrors=("display",)),
-    SceneField("exposure", {"colours"}, default=1.0, mirrors=("exposure",)),
+    SceneField("title", default="", value=("text",)),
+    SceneField("model", {"colours"}, default="phong", mirrors=("model",), value=("choice", MODELS)),
+    SceneField("interpolation", {"colours", "array"}, default="gouraud", mirrors=("interpolation",),
+               value=("choice", INTERPOLATIONS)),
+    SceneField("two_sided", {"colours", "vectors"}, default=False, mirrors=("two_sided",), value=("bool",)),
+    SceneField("probe", {"probe", "vectors"}, default=None, mirrors=("probe",), value=("vector",)),
+    SceneField("display", {"colours"}, default="srgb", mirrors=("display",), value=("choice", DISPLAYS)),
+    SceneField("exposure", {"colours"}, default=1.0, mirrors=("exposure",), value=("number", 0, None, True)),
     SceneField("geometry", {"mesh", "colours", "probe", "vectors"}),
     SceneField("material", {"colours"}, mirrors=tuple(f"material.{k}" for k in
                                                       ("ka", "kd", "ks", "shininess", "emission", "roughness",
@@ -126,8 +145,9 @@ SCENE_FIELDS = (
     SceneField("objects", {"mesh", "colours", "probe", "vectors"},
                parts={"name": {"vectors"}, "geometry": {"mesh", "colours", "probe", "vectors"},
                       "material": {"colours"}}),
-    SceneField("shadows", {"colours"}, default=False, mirrors=("shadows",)),
-    SceneField("shadow_bias", {"colours"}, default=1e-3, mirrors=("shadow_bias",)),
+    SceneField("shadows", {"colours"}, default=False, mirrors=("shadows",), value=("bool",)),
+    SceneField("shadow_bias", {"colours"}, default=1e-3, mirrors=("shadow_bias",),
+               value=("number", *SHADOW_BIAS_RANGE, False)),
     SceneField("lights", {"colours", "vectors", "markers"}),
     SceneField("camera", {"camera", "colours", "default probe", "vectors", "markers", "eye"},
                mirrors=("camera.infinite_viewer",)),
