@@ -397,26 +397,22 @@ def controls_by_key(scene, frame: Frame | None = None, *, read_field=field_value
     return out
 
 
+def _view_switch(path: str, label: str, option: str) -> Control:
+    """A switch that sets a view option (``options[option]``), not a scene field."""
+    return Control(
+        path=path,
+        label=label,
+        kind="switch",
+        read=lambda scene, options: bool(options.get(option, False)),
+        write=lambda scene, value, options: (scene, {**options, option: value}),
+        group="View",
+    )
+
+
 #: the switch that shows a lesson's common mistake in the view (a view option, not a scene field)
-MISTAKE_SWITCH = Control(
-    path="view.mistake",
-    label="show the mistake",
-    kind="switch",
-    read=lambda scene, options: bool(options.get("mistake", False)),
-    write=lambda scene, value, options: (scene, {**options, "mistake": value}),
-    group="View",
-)
-
-
+MISTAKE_SWITCH = _view_switch("view.mistake", "show the mistake", "mistake")
 #: the switch that shows the scene under Phong and under Cook–Torrance below the view (a view option)
-COMPARE_SWITCH = Control(
-    path="view.compare",
-    label="Phong beside Cook–Torrance",
-    kind="switch",
-    read=lambda scene, options: bool(options.get("compare", False)),
-    write=lambda scene, value, options: (scene, {**options, "compare": value}),
-    group="View",
-)
+COMPARE_SWITCH = _view_switch("view.compare", "Phong beside Cook–Torrance", "compare")
 
 
 def controls_shape(scene) -> tuple:

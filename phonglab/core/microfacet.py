@@ -138,13 +138,17 @@ def smith_visibility(nl, nv, alpha: float):
     >>> float(smith_visibility(np.float64(1.0), np.float64(1.0), 0.25))
     0.25
     """
+    nl, nv, lam_l, lam_v, dtype = _smith_roots(nl, nv, alpha)
+    return dtype.type(0.5) / (nl * lam_v + nv * lam_l)
+
+
+def _smith_roots(nl, nv, alpha: float):
+    """``(n·l, n·v, √((n·l)²(1 − α²) + α²), √((n·v)²(1 − α²) + α²), dtype)`` for the visibility."""
     nl, nv = np.asarray(nl), np.asarray(nv)
     dtype = np.result_type(nl, nv, np.float32)
     a2 = dtype.type(alpha * alpha)
     one = dtype.type(1)
-    lam_v = np.sqrt(nv * nv * (one - a2) + a2)
-    lam_l = np.sqrt(nl * nl * (one - a2) + a2)
-    return dtype.type(0.5) / (nl * lam_v + nv * lam_l)
+    return nl, nv, np.sqrt(nl * nl * (one - a2) + a2), np.sqrt(nv * nv * (one - a2) + a2), dtype
 
 
 def smith_visibility_nl(nl, nv, alpha: float):
@@ -160,12 +164,8 @@ def smith_visibility_nl(nl, nv, alpha: float):
     and the result goes to 0, never NaN. The caller gates ``n·l ≤ 0`` and
     ``n·v ≤ 0`` to exactly 0.
     """
-    nl, nv = np.asarray(nl), np.asarray(nv)
-    dtype = np.result_type(nl, nv, np.float32)
-    a2 = dtype.type(alpha * alpha)
+    nl, nv, lam_l, lam_v, dtype = _smith_roots(nl, nv, alpha)
     one = dtype.type(1)
-    lam_v = np.sqrt(nv * nv * (one - a2) + a2)
-    lam_l = np.sqrt(nl * nl * (one - a2) + a2)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         ratio = np.where(nl > 0, nv * lam_l / np.where(nl > 0, nl, one), np.inf)
         return dtype.type(0.5) / (lam_v + ratio)

@@ -310,9 +310,7 @@ def shade_reference(
         if model == "cook-torrance":
             # Cook–Torrance: the diffuse term is weighted by (1 − F)(1 − m), the specular one is π D V F (n·l)
             term_d, term_s, ct = _cook_torrance(n, l, v, nl, f, w_d, material, light, dtype)
-            if lit is not None:
-                term_d = np.where(lit[..., None], term_d, 0).astype(dtype)
-                term_s = np.where(lit[..., None], term_s, 0).astype(dtype)
+            term_d, term_s = _shadowed(lit, term_d, term_s, dtype)
             diffuse += term_d
             specular += term_s
             if trace:
@@ -344,9 +342,7 @@ def shade_reference(
         w_s = steps.specular_weight(nl, c, material.shininess)
         term_s = (f * ks_is * w_s[..., None]).astype(dtype)
 
-        if lit is not None:
-            term_d = np.where(lit[..., None], term_d, 0).astype(dtype)
-            term_s = np.where(lit[..., None], term_s, 0).astype(dtype)
+        term_d, term_s = _shadowed(lit, term_d, term_s, dtype)
         diffuse += term_d
         specular += term_s
 
@@ -415,6 +411,13 @@ COOK_TORRANCE_FACTORS = {
     "F": ("add", "F₀", ("mul", ("sub", 1, "F₀"), ("pow", ("sub", 1, "v·h"), 5))),
     "k_D": ("mul", ("sub", 1, "F"), ("sub", 1, "m")),
 }
+
+
+def _shadowed(lit, term_d, term_s, dtype):
+    """A light's two terms, 0 where its shadow ray was blocked (``lit`` False; None: no shadows)."""
+    if lit is None:
+        return term_d, term_s
+    return (np.where(lit[..., None], term_d, 0).astype(dtype), np.where(lit[..., None], term_s, 0).astype(dtype))
 
 
 def _kind(light) -> str:

@@ -69,44 +69,21 @@ def lobe_plot(scene, size):
         return ggx_lobe_plot(scene, size)
     alpha_scene = float(scene.material.shininess)
     exponents = sorted(set(LOBE_EXPONENTS) | {alpha_scene})
-    angle_name = r"$\angle(N, H)$" if scene.model == "blinn-phong" else r"$\angle(R, V)$"
-    fs = _font(size)
-    fig = canvas(size)
-    polar_cell, flat_cell = _two_cells(fig, size, polar_first=True)
-    flat = fig.add_subplot(flat_cell)
-    curves = []
-    phi = np.linspace(-math.pi / 2, math.pi / 2, 721)
-    colors = plt.cm.viridis(np.linspace(0.05, 0.85, len(exponents)))
-    for alpha, color in zip(exponents, colors):
+
+    def lobe(alpha, phi):
         cos = np.cos(phi)
-        lobe = core.specular_lobe(np.ones_like(cos), cos, alpha)  # a lit point: the n·l gate open
-        mine = alpha == alpha_scene
-        label = rf"$\alpha$ = {alpha:g}" + ("  (this scene)" if mine else "") + f"   half at {half_width(alpha):.1f}°"
-        style = dict(color="black" if mine else color, lw=3.2 if mine else 1.6,
-                     ls="-" if mine or alpha in LOBE_EXPONENTS else "--")
-        curves.append((lobe, style))
-        flat.plot(np.degrees(phi), lobe, label=label, **style)
-    flat.set_xlim(-90, 90)
-    flat.set_ylim(0, 1.05)
-    flat.set_xticks(range(-90, 91, 30))
-    flat.set_xlabel(f"φ = {angle_name} in degrees", fontsize=fs)
-    flat.set_ylabel(r"$\max(0, \cos\varphi)^{\alpha}$", fontsize=fs)
-    flat.tick_params(labelsize=fs * 0.85)
-    flat.grid(alpha=0.3)
-    flat.set_title("larger α: a smaller, sharper highlight", fontsize=fs * 1.1)
-    fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
-    title = fig.suptitle(r"Specular lobe  $\max(0,\cos\varphi)^{\alpha}$", fontsize=fs * 1.35, weight="bold",
-                         va="top", y=1 - _pad(size) / size[1])
-    legend = _bottom_legend(fig, *flat.get_legend_handles_labels(), fontsize=fs * 0.85)
-    _tight(fig, title, legend)
-    keep_inside(flat.title, fig, _pad(size))
-    # polar: R (or H) straight up, the surface along the horizontal, in the free left cell
-    polar = _half_polar(fig, polar_cell, flat, fs,
-                        f"lobe around {'N' if scene.model == 'blinn-phong' else 'R'} (polar)")
-    for lobe, style in curves:
-        polar.plot(phi, lobe, **style)
-    polar.set_rticks([0.25, 0.5, 0.75, 1.0])
-    return fig
+        return core.specular_lobe(np.ones_like(cos), cos, alpha)  # a lit point: the n·l gate open
+
+    def label(alpha):
+        return rf"$\alpha$ = {alpha:g}" + ("  (this scene)" if alpha == alpha_scene else "") + \
+            f"   half at {half_width(alpha):.1f}°"
+
+    around = "N" if scene.model == "blinn-phong" else "R"
+    angle = r"$\angle(N, H)$" if scene.model == "blinn-phong" else r"$\angle(R, V)$"
+    return _lobe_figure(size, exponents, alpha_scene, LOBE_EXPONENTS, lobe, label,
+                        xlabel=f"φ = {angle} in degrees", ylabel=r"$\max(0, \cos\varphi)^{\alpha}$",
+                        subtitle="larger α: a smaller, sharper highlight",
+                        title=r"Specular lobe  $\max(0,\cos\varphi)^{\alpha}$", polar=f"lobe around {around} (polar)")
 
 
 def ggx_half_width(roughness: float) -> float:
@@ -124,6 +101,28 @@ def ggx_lobe_plot(scene, size):
     """
     rough_scene = float(scene.material.roughness)
     values = sorted(set(LOBE_ROUGHNESS) | {rough_scene})
+
+    def lobe(roughness, phi):
+        alpha = microfacet.ggx_alpha(roughness)
+        # D(φ) scaled so that its peak is 1: D(0) = 1/(π α²)
+        return microfacet.ggx_distribution(1 - np.cos(phi), alpha) * (math.pi * alpha * alpha)
+
+    def label(roughness):
+        return f"roughness {roughness:g}" + ("  (this scene)" if roughness == rough_scene else "") + \
+            f"   half at {ggx_half_width(roughness):.1f}°"
+
+    return _lobe_figure(size, values, rough_scene, LOBE_ROUGHNESS, lobe, label,
+                        xlabel=r"φ = $\angle(N, H)$ in degrees", ylabel=r"$D(\varphi)\,/\,D(0)$",
+                        subtitle="rougher: a wider lobe (each scaled to its peak)",
+                        title=r"GGX lobe  $D = \alpha^2 / \pi((n\cdot h)^2(\alpha^2-1)+1)^2$",
+                        polar="lobe around N (polar)")
+
+
+def _lobe_figure(size, values, own, usual, lobe, label, *, xlabel, ylabel, subtitle, title, polar):
+    """A lobe for each of ``values`` (``lobe(value, φ)``, peak 1), cartesian and polar; ``own`` drawn thick.
+
+    Values in ``usual`` are solid, the scene's own thick and black, others dashed.
+    """
     fs = _font(size)
     fig = canvas(size)
     polar_cell, flat_cell = _two_cells(fig, size, polar_first=True)
@@ -131,35 +130,31 @@ def ggx_lobe_plot(scene, size):
     curves = []
     phi = np.linspace(-math.pi / 2, math.pi / 2, 721)
     colors = plt.cm.viridis(np.linspace(0.05, 0.85, len(values)))
-    for roughness, color in zip(values, colors):
-        alpha = microfacet.ggx_alpha(roughness)
-        # D(φ) scaled so that its peak is 1: D(0) = 1/(π α²)
-        lobe = microfacet.ggx_distribution(1 - np.cos(phi), alpha) * (math.pi * alpha * alpha)
-        mine = roughness == rough_scene
-        label = (f"roughness {roughness:g}" + ("  (this scene)" if mine else "")
-                 + f"   half at {ggx_half_width(roughness):.1f}°")
+    for value, color in zip(values, colors):
+        y = lobe(value, phi)
+        mine = value == own
         style = dict(color="black" if mine else color, lw=3.2 if mine else 1.6,
-                     ls="-" if mine or roughness in LOBE_ROUGHNESS else "--")
-        curves.append((lobe, style))
-        flat.plot(np.degrees(phi), lobe, label=label, **style)
+                     ls="-" if mine or value in usual else "--")
+        curves.append((y, style))
+        flat.plot(np.degrees(phi), y, label=label(value), **style)
     flat.set_xlim(-90, 90)
     flat.set_ylim(0, 1.05)
     flat.set_xticks(range(-90, 91, 30))
-    flat.set_xlabel(r"φ = $\angle(N, H)$ in degrees", fontsize=fs)
-    flat.set_ylabel(r"$D(\varphi)\,/\,D(0)$", fontsize=fs)
+    flat.set_xlabel(xlabel, fontsize=fs)
+    flat.set_ylabel(ylabel, fontsize=fs)
     flat.tick_params(labelsize=fs * 0.85)
     flat.grid(alpha=0.3)
-    flat.set_title("rougher: a wider lobe (each scaled to its peak)", fontsize=fs * 1.1)
+    flat.set_title(subtitle, fontsize=fs * 1.1)
     fit_width(flat.title, fig.canvas.get_renderer(), _cell_width(fig, flat_cell))
-    title = fig.suptitle(r"GGX lobe  $D = \alpha^2 / \pi((n\cdot h)^2(\alpha^2-1)+1)^2$", fontsize=fs * 1.35,
-                         weight="bold", va="top", y=1 - _pad(size) / size[1])
+    suptitle = fig.suptitle(title, fontsize=fs * 1.35, weight="bold", va="top", y=1 - _pad(size) / size[1])
     legend = _bottom_legend(fig, *flat.get_legend_handles_labels(), fontsize=fs * 0.85)
-    _tight(fig, title, legend)
+    _tight(fig, suptitle, legend)
     keep_inside(flat.title, fig, _pad(size))
-    polar = _half_polar(fig, polar_cell, flat, fs, "lobe around N (polar)")
-    for lobe, style in curves:
-        polar.plot(phi, lobe, **style)
-    polar.set_rticks([0.25, 0.5, 0.75, 1.0])
+    # polar: the lobe's axis straight up, the surface along the horizontal, in the free left cell
+    axes = _half_polar(fig, polar_cell, flat, fs, polar)
+    for y, style in curves:
+        axes.plot(phi, y, **style)
+    axes.set_rticks([0.25, 0.5, 0.75, 1.0])
     return fig
 
 
