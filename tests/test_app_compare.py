@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from phonglab.app.compare_panel import SIZE
+from phonglab.app.compare_panel import picture_size
 from phonglab.bench.scenes import lesson, red_sphere_tables
 
 SPHERE = lesson(
@@ -44,11 +44,12 @@ def test_the_switch_shows_both_models_and_the_picture_follows_the_roughness(app)
     app._on_control("view__compare", True)
     assert app.options["compare"] is True and app.state.compare_png["status"] == "ready", app.state.compare_png
     first = picture(app)
-    assert first.shape == (SIZE[1], SIZE[0], 3)
+    width, height = picture_size(app.view.size)  # the view less the panel's heading
+    assert first.shape == (height, width, 3), (first.shape, app.view.size)
     app._on_control("material__roughness", 0.8)
     assert app.scene.material.roughness == 0.8
     second = picture(app)
-    half = SIZE[0] // 2
+    half = width // 2
     phong_change = np.abs(first[:, :half] - second[:, :half]).max()
     ct_change = np.abs(first[:, half:] - second[:, half:])
     assert phong_change == 0, f"the Phong panel changed by {phong_change} with the roughness"

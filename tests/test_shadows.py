@@ -299,8 +299,8 @@ def test_the_plan_lists_the_traced_and_the_skipped_pairs():
     lines = plan(BALL).as_dict()
     computed = {line["effect"]: line["reason"] for line in lines["computed"]}
     skipped = {line["effect"]: line["reason"] for line in lines["skipped"]}
-    assert "rays from the floor" in computed["shadow: light 1 blocked by the ball"], computed
-    assert "cannot shadow itself" in skipped["shadow: light 1 blocked by the floor"], skipped
+    assert "rays from the floor" in computed["shadow of the ball from light 1"], computed
+    assert "cannot shadow itself" in skipped["shadow of the floor from light 1"], skipped
     assert "shadows are off" in {e: r for e, r in (
         (x["effect"], x["reason"]) for x in plan(BALL.replace("shadows", False)).as_dict()["skipped"])}["shadows"]
 

@@ -26,8 +26,8 @@ Which settings (keys are field paths; :func:`setting_paths`):
   ``material.shininess``, ``roughness``, ``metallic``, ``lights[i].position``
   / ``direction`` / ``attenuation``, ``probe``, ``shadows``,
   ``shadow_bias``, and in a scene of several objects each object's
-  ``objects[i].material.*`` and ``objects[i].geometry.kind`` /
-  ``resolution`` / ``center`` / ``scale`` (numbers joined by commas; a grey
+  ``objects[i].name``, ``objects[i].material.*`` and
+  ``objects[i].geometry.kind`` / ``resolution`` / ``center`` / ``scale`` (numbers joined by commas; a grey
   coefficient as one number);
 - what a widget sets: ``lights[i].type``, ``lights[i].color`` (six hex
   digits, sRGB as the colour picker shows it), ``intensity``, ``cutoff``,
@@ -98,7 +98,7 @@ FILE_FIELDS = re.compile(
     r"(objects\[\d+\]\.)?material\.(ka|kd|ks|shininess|emission|opacity|roughness|metallic)"
     r"|lights\[\d+\]\.(position|direction|color|intensity|attenuation|cutoff|exponent|diffuse|specular)"
     r"|camera\.(eye|focal_point|up|view_angle|infinite_viewer)"
-    r"|(objects\[\d+\]\.)?geometry\.(kind|resolution|center|scale)"
+    r"|(objects\[\d+\]\.)?geometry\.(kind|resolution|center|scale)|objects\[\d+\]\.name"
     r"|model|interpolation|two_sided|display|exposure|probe|shadows|shadow_bias"
     r"|area_light\.(position|edge_u|edge_v|color|intensity|method|samples)"
 )

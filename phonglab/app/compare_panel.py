@@ -27,11 +27,24 @@ log = logging.getLogger(__name__)
 
 __all__ = ["ComparePanel", "models_png", "SIZE"]
 
-#: the comparison's size in pixels (two panels side by side)
+#: the comparison's size in pixels (two panels side by side) when the view's size is not known
 SIZE = (960, 420)
+#: what the panel's heading takes of the view's height, in pixels
+HEADING = 80
+#: the comparison's smallest and largest side, in pixels
+SIDE_RANGE = (240, 1600)
 
 
-def models_png(scene) -> bytes:
+def picture_size(view_size) -> tuple[int, int]:
+    """The comparison's size for a view of ``view_size`` (width, height) pixels: the view less its heading."""
+    if not view_size:
+        return SIZE
+    low, high = SIDE_RANGE
+    width, height = view_size
+    return (min(max(int(width), low), high), min(max(int(height) - HEADING, low), high))
+
+
+def models_png(scene, size=SIZE) -> bytes:
     """PNG bytes of ``scene`` under each compared model, side by side, shaded per pixel (in a worker)."""
     import tempfile
     from pathlib import Path
@@ -39,7 +52,7 @@ def models_png(scene) -> bytes:
     from phonglab.render import figure
 
     with tempfile.TemporaryDirectory(prefix="phonglab-compare-") as folder:
-        path = figure(scene.replace("interpolation", "pixel"), Path(folder) / "models.png", size=SIZE,
+        path = figure(scene.replace("interpolation", "pixel"), Path(folder) / "models.png", size=tuple(size),
                       models=True, supersample=1)
         return path.read_bytes()
 
@@ -55,13 +68,13 @@ class ComparePanel:
     def __init__(self, state):
         self.state = state
         self._job = TabJob(state, "compare_busy")
-        self._wanted = None  # the scene the page should show, while the comparison is on
-        self._making = None  # the scene whose picture is being made
-        self._shown = None  # the scene of the picture shown
+        self._wanted = None  # (scene, size) the page should show, while the comparison is on
+        self._making = None  # (scene, size) of the picture being made
+        self._shown = None  # (scene, size) of the picture shown
         state.compare_png = {"status": "idle", "src": "", "error": ""}
 
-    def follow(self, scene, on: bool) -> None:
-        """The scene, or the switch, changed: make the picture for the newest scene while the switch is on."""
+    def follow(self, scene, on: bool, view_size=None) -> None:
+        """The scene, the switch or the view's size changed: make the picture for the newest while it is on."""
         if not on or scene is None:
             self._wanted = None
             if self._job.busy:
@@ -69,8 +82,8 @@ class ComparePanel:
                 self._making = None
             self.state.compare_png = {**self.state.compare_png, "status": "idle"}
             return
-        self._wanted = scene
-        if scene == self._shown and not self._job.busy:
+        self._wanted = (scene, picture_size(view_size))
+        if self._wanted == self._shown and not self._job.busy:
             return
         self._start()
 
@@ -81,7 +94,7 @@ class ComparePanel:
         self.state.compare_png = {**self.state.compare_png, "status": "making", "error": ""}
         try:
             # (without a server loop, in scripts and tests, the picture is made here and _done runs at once)
-            self._job.start(models_png, (self._making,), self._done, self._failed)
+            self._job.start(models_png, self._making, self._done, self._failed)
         except ServerBusy:
             self._failed(ServerBusy("the server is busy with other pictures"))
 

@@ -88,6 +88,8 @@ class Control:
     fmt: str = "{:.2f}"
     group: str = ""
     key_step: float = 0.0
+    #: the models the control acts in (empty: every model); under another the page greys it and says so
+    models: tuple = ()
 
     @property
     def key(self) -> str:

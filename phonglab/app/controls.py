@@ -136,7 +136,8 @@ def _shininess(group: str) -> Control:
 
     low, high = SHININESS_LOG_RANGE
     return Control(path="material.shininess.log", label=r"shininess $\alpha$", kind="slider", read=read, write=write,
-                   low=low, high=high, step=0.01, fmt="alpha", group=group, key_step=SHININESS_KEY_STEP)
+                   low=low, high=high, step=0.01, fmt="alpha", group=group, key_step=SHININESS_KEY_STEP,
+                   models=core.PHONG_MODELS)
 
 
 def _light_controls(scene, index: int, frame: Frame, read_field) -> list[Control]:
@@ -284,9 +285,9 @@ def scene_controls(scene, frame: Frame | None = None, *, read_field=field_value)
     controls.append(_shininess("Material"))
     # Cook–Torrance's lobe: roughness (α_GGX = roughness²) and how metallic the surface is
     controls.append(_field("material.roughness", "roughness", "slider", read_field, low=0.0, high=1.0, step=0.01,
-                           group="Material"))
+                           group="Material", models=("cook-torrance",)))
     controls.append(_field("material.metallic", "metallic", "slider", read_field, low=0.0, high=1.0, step=0.01,
-                           group="Material"))
+                           group="Material", models=("cook-torrance",)))
     for index in range(len(scene.lights)):
         controls += _light_controls(scene, index, frame, read_field)
     controls += _eye_controls(frame)

@@ -284,12 +284,14 @@ def export_menu_items(export):
     """The page's export menu: one entry per figure kind (``export(kind)`` on click)."""
     from trame.widgets import vuetify3 as v3
 
-    entries = [("render", "This view (PNG)", "mdi-image-outline", None),
-               ("terms", "Per-term figure (PNG)", "mdi-view-grid-outline", None),
-               ("mistake", "Correct vs. common mistake (PNG)", "mdi-alert-outline", "!mistake"),
-               ("models", "Phong beside Cook–Torrance (PNG)", "mdi-compare", None),
-               ("furnace", "White furnace: light each model sends back (PNG)", "mdi-fire", None)]
-    for kind, title, icon, disabled in entries:
+    # (kind, title, icon, disabled when, shown when): the models' figures in lessons that switch the model
+    entries = [("render", "This view (PNG)", "mdi-image-outline", None, None),
+               ("terms", "Per-term figure (PNG)", "mdi-view-grid-outline", None, None),
+               ("mistake", "Correct vs. common mistake (PNG)", "mdi-alert-outline", "!mistake", None),
+               ("models", "Phong beside Cook–Torrance (PNG)", "mdi-compare", None, "has_model_control"),
+               ("furnace", "White furnace: light each model sends back (PNG)", "mdi-fire", None,
+                "has_model_control")]
+    for kind, title, icon, disabled, shown in entries:
         v3.VListItem(title=title, prepend_icon=icon, click=(export, f"['{kind}']"),
-                     disabled=(disabled,) if disabled else False,
+                     disabled=(disabled,) if disabled else False, v_if=shown,
                      classes=f"phonglab-export-{kind}")

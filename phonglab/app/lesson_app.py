@@ -215,6 +215,7 @@ class LessonApp(TrameApp):
             return
         s.lesson_errors = []
         lesson = entry.lesson
+        s.has_model_control = bool(lesson and "model" in lesson.controls)
         s.lesson_goal_html = text.inline(lesson.goal) if lesson and lesson.goal else ""
         s.lesson_html = text.render_markdown(text.strip_title(lesson.body, lesson.title)) if lesson else ""
         s.experiments = [
@@ -389,7 +390,7 @@ class LessonApp(TrameApp):
         if not s.pixel_mode:
             s.update(self._probe_panels())
         self.accuracy.follow(scene)
-        self.compare.follow(scene, bool(self.options.get("compare")))
+        self.compare.follow(scene, bool(self.options.get("compare")), self.view.size if self.view else None)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)
         values = self._sync_control_values()
@@ -600,6 +601,8 @@ class LessonApp(TrameApp):
                 self._send_camera()  # the angle that holds the arrows depends on the window's shape
             if self.scene is not None and self.scene.interpolation == "pixel":
                 self._refresh_pixels()
+            if self.scene is not None and self.options.get("compare"):  # the comparison fills the view
+                self.compare.follow(self.scene, True, self.view.size)
 
     @_guarded
     def export_figure(self, kind="render", *_, **__) -> None:

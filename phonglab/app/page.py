@@ -35,6 +35,7 @@ from phonglab.app.accuracy_panel import RESOLUTIONS as ACCURACY_RESOLUTIONS
 from phonglab.app import check_question, student_code
 from phonglab.app.client import ArrowLetters, ColorPush
 from phonglab.app.control import Control
+from phonglab.app.controls import MODELS as MODEL_NAMES
 from phonglab.app.controls import TERMS
 from phonglab.app import truth_ui
 from phonglab.app.slider_access import slider_attributes
@@ -54,6 +55,7 @@ def initial_state() -> dict:
         "experiments": [],
         "question_html": "",
         "answer_html": "",
+        "has_model_control": False,  # the lesson lets the student switch the model: the comparison is offered
         "show_answer": False,
         "readout": None,
         "plan_computed": [],
@@ -251,17 +253,18 @@ class _Page:
                     v3.VBtn("Show it with per-pixel shading", v_if="mistake_note && interpolation != null",
                             click="interpolation = 'pixel'; view__mistake = true", size="small", variant="tonal",
                             color="error", classes="phonglab-mistake-pixel")
-                with html.Div(v_if="question_html", classes="phonglab-question"):
+                # a lesson's [check], its open question, or both
+                with html.Div(v_if="question_html || check", classes="phonglab-question"):
                     html.H3("Check yourself")
                     if self.handlers.check_answer is not None:  # answer first, then the explanation
                         check_question.build(self.handlers.check_answer)
                     # the lesson's open question, which the explanation answers, set apart from the check's
-                    html.H4("Think about it", v_if="check", classes="phonglab-think")
-                    html.Div(v_html=("question_html",), classes="phonglab-open-question")
+                    html.H4("Think about it", v_if="check && question_html", classes="phonglab-think")
+                    html.Div(v_if="question_html", v_html=("question_html",), classes="phonglab-open-question")
                     v3.VBtn("{{ show_answer ? 'Hide answer' : 'Show answer' }}", size="small", variant="text",
-                            v_if=check_question.REVEAL_IF,
+                            v_if=f"answer_html && ({check_question.REVEAL_IF})",
                             color="primary", click="show_answer = !show_answer", classes="phonglab-answer-btn px-0")
-                    html.Div(v_if="show_answer", v_html=("answer_html",), classes="phonglab-answer")
+                    html.Div(v_if="show_answer && answer_html", v_html=("answer_html",), classes="phonglab-answer")
                 if self.handlers.student_code is not None:  # only with phonglab serve --allow-student-code
                     student_code.build(self.handlers.student_code)
 
@@ -285,9 +288,8 @@ class _Page:
                         v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
                         v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
                     # the scene under Phong and under Cook–Torrance, side by side below the view
-                    v3.VBtn("Compare models", size="small", prepend_icon="mdi-compare",
-                            variant=("view__compare ? 'flat' : 'outlined'",),
-                            color=("view__compare ? 'primary' : undefined",),
+                    v3.VBtn("Compare models", size="small", prepend_icon="mdi-compare", v_if="has_model_control",
+                            variant=("view__compare ? 'flat' : 'tonal'",), color="primary",
                             click="view__compare = !view__compare", classes="phonglab-compare-toggle",
                             aria_pressed=("view__compare ? 'true' : 'false'",),
                             title="Show this scene under Phong and under Cook–Torrance, side by side")
@@ -312,6 +314,7 @@ class _Page:
                     html.Img(src=("pixel_src",), alt="per-pixel shading by the core", decoding="sync")
                     html.Div("updating the picture…", v_if="pixel_pending", role="status",
                              classes="phonglab-pixel-updating")
+                self._compare_panel()
                 truth_ui.wrong_banner()
                 html.Div(
                     "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you let go' : "
@@ -320,15 +323,17 @@ class _Page:
                     classes="phonglab-hint",
                 )
                 self._notice()
-            self._compare_panel()
             self._accuracy_panel()
             self._readout_panel()
 
     def _compare_panel(self):
-        """Phong beside Cook–Torrance: the scene under both models, from the view's eye (made in a worker)."""
+        """Phong beside Cook–Torrance over the view: the scene under both models from the view's eye (a worker's)."""
         with html.Div(classes="phonglab-compare", v_if="view__compare"):
-            html.Span("Phong beside Cook–Torrance: the same mesh, lights and eye, each shaded per pixel by the "
-                      "core", classes="phonglab-section")
+            with html.Div(classes="phonglab-compare-head"):
+                html.Span("Phong beside Cook–Torrance: the same mesh, lights and eye, each shaded per pixel by "
+                          "the core; it follows your changes", classes="phonglab-section")
+                v3.VBtn("Back to the 3D view", size="small", variant="tonal", prepend_icon="mdi-close",
+                        click="view__compare = false", classes="phonglab-compare-close")
             v3.VProgressLinear(indeterminate=True, v_if="compare_busy", color="primary", height=2)
             html.Img(v_if="compare_png.src", src=("compare_png.src",), classes="phonglab-compare-picture",
                      alt="this scene under Phong (left) and under Cook–Torrance (right)")
@@ -505,9 +510,14 @@ def _widget(control: Control, suffix: str = "") -> None:
     key = control.key
     label = f"control_labels['{key}']"
     if control.kind == "slider":
-        with html.Div(classes=css):
+        # a slider of one model's (shininess: Phong's; roughness: Cook–Torrance's) is greyed under another
+        unused = f"!{json.dumps(list(control.models))}.includes(model)".replace('"', "'") if control.models else None
+        with html.Div(classes=css, style=(f"{unused} ? 'opacity: 0.6' : ''",) if unused else None):
             with html.Div(classes="phonglab-control-head"):
                 html.Span(v_html=(label,), classes="phonglab-label")
+                if unused:
+                    names = " and ".join(dict(MODEL_NAMES).get(m, m) for m in control.models)
+                    html.Span(f"used by {names} only", v_if=unused, classes="phonglab-note phonglab-model-note")
                 html.Span(f"{{{{ control_values['{key}'] }}}}", classes="phonglab-mono phonglab-value")
             v3.VSlider(
                 v_model=(key,),

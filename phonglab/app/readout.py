@@ -55,6 +55,10 @@ INTERPOLATION_NOTES = {
 }
 
 
+#: a factor's row label where its recorded name is not the one the lesson writes
+FACTOR_LABELS = {"k_D": "(1 − F)(1 − m)"}
+
+
 def _rgb_text(rgb) -> str:
     return "(" + ", ".join(f"{float(c):.3f}" for c in rgb) + ")"
 
@@ -111,7 +115,7 @@ def _rows(record, color, shown, several: bool) -> tuple[list[tuple[str, str]], l
         rows.append(("emission", _worked(record.terms["emission"], _lookup(record), record["emission"])))
     if shown is not None:
         # the model's own factors first (Cook–Torrance's D, V, F), then the terms they make
-        rows += [(name, _worked(formula, _lookup(record, shown), shown[name]))
+        rows += [(FACTOR_LABELS.get(name, name), _worked(formula, _lookup(record, shown), shown[name]))
                  for name, formula in shown.factors.items()]
         rows += [(t, _worked(shown.terms[t], _lookup(record, shown), shown[t])) for t in shown.terms]
     if not several:
@@ -284,8 +288,11 @@ def _shadow_lines(scene, record, blocked_by) -> list[dict]:
             continue
         name = _name(light)
         if bool(light["lit"]):
+            # the shadow ray starts shadow_bias along l: say so when that start may have passed an object
+            start = (f", which starts {scene.shadow_bias:g} from the point towards the light"
+                     if scene.shadow_bias >= 0.01 else "")
             lines.append({"light": name, "state": "lit", "blocker": None,
-                          "text": f"{name.capitalize()}: lit here (no object blocks its shadow ray)."})
+                          "text": f"{name.capitalize()}: lit here (no object blocks its shadow ray{start})."})
         else:
             by = objects[blocked_by[light.index]].label
             lines.append({"light": name, "state": "in shadow", "blocker": by,

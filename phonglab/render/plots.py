@@ -160,7 +160,7 @@ def _lobe_figure(size, values, own, usual, lobe, label, *, xlabel, ylabel, subti
 
 #: the furnace plot's curves: (model, lobe width, label); roughness for Cook–Torrance, α for Phong
 FURNACE_CURVES = (
-    ("phong", 0.25, "Phong, α = 0.25"),
+    ("phong", 0.5, "Phong, α = 0.5"),
     ("phong", 1.0, "Phong, α = 1"),
     ("phong", 10.0, "Phong, α = 10"),
     ("phong-normalised", 10.0, "normalised Phong, α = 10"),

@@ -128,7 +128,7 @@ def plan(scene: Scene, *, full_shadows: bool = False) -> ScenePlan:
     if not scene.shadows:
         skipped.append(("shadows", "shadows are off: every light reaches every point its n·l gate lets it"))
     for pair in pairs:
-        effect = f"shadow: light {pair.light} blocked by the {objects[pair.occluder].label}"
+        effect = f"shadow of the {objects[pair.occluder].label} from light {pair.light}"
         if pair.traced:
             computed.append((effect, "rays from " + ", ".join(f"the {objects[r].label}" for r in pair.receivers)
                              + " are tested against it" + "".join(f"; {why}" for _, why in pair.reasons)))
