@@ -50,7 +50,7 @@ def mp_cook_torrance(p, n, light_pos, eye, material):
     m = mpmath.mpf(material.metallic)
     diffuse, specular = [], []
     for kd, ks in zip(material.kd, material.ks):
-        f0 = mpmath.mpf("0.04") * (1 - m) + mpmath.mpf(kd) * m
+        f0 = min(mpmath.mpf("0.04") * (1 - m) + mpmath.mpf(kd) * m, mpmath.mpf(1))
         f = f0 + (1 - f0) * (1 - vh) ** 5
         diffuse.append(mpmath.mpf(kd) * (1 - f) * (1 - m) * nl)
         specular.append(mpmath.pi * mpmath.mpf(ks) * d * vis * f * nl)
@@ -77,6 +77,20 @@ def test_a_white_lambertian_base_head_on_reflects_its_base_colour_less_what_fres
     s = pl.shade([[0, 0, 0.0]], [[0, 0, 1.0]], eye=(0, 0, 5), material=plastic,
                  lights=[pl.DirectionalLight(direction=(0, 0, 1))], model=CT)
     assert s.diffuse[0].tolist() == pytest.approx([0.96] * 3, rel=1e-15), s.diffuse
+
+
+def test_a_base_colour_above_one_reflects_at_most_all_the_light_and_no_negative_diffuse():
+    # found by the fast-vs-reference property test: k_d = 1.016 at metallic 0.98 made F₀ and F exceed 1,
+    # so (1 − F)(1 − m) and the diffuse term went negative (−1.1e-6)
+    bright = pl.Material(ka=0, kd=(0, 1.015625, 0), ks=0, shininess=1, roughness=0.0, metallic=0.984375)
+    for p, n in (([0, 0, 0.0], [0, 0, 1.0]), ([0.3, 0, 0.0], [0.6, 0, 0.8])):
+        for kernel in (pl.shade, pl.shade_reference):
+            s = kernel([p], [n], eye=(0, 0, 4), material=bright, lights=[pl.PointLight(position=(0, 0, 2))],
+                       model=CT)
+            assert (s.diffuse >= 0).all() and (s.specular >= 0).all(), \
+                f"{kernel.__name__} at p={p} n={n}: diffuse {s.diffuse}, specular {s.specular}"
+    from phonglab.core.microfacet import fresnel_f0
+    assert fresnel_f0((1.2, 0.5, 0.0), 1.0).tolist() == [1.0, 0.5, 0.0]
 
 
 @pytest.mark.parametrize("dtype", [F32, F64])

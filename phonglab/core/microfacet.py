@@ -172,7 +172,11 @@ def smith_visibility_nl(nl, nv, alpha: float):
 
 
 def fresnel_f0(base_color, metallic: float) -> np.ndarray:
-    """Head-on reflectance ``F₀ = 0.04 (1 − m) + k_d m`` per channel (``m`` = metallic, ``k_d`` the base colour).
+    """Head-on reflectance ``F₀ = min(1, 0.04 (1 − m) + k_d m)`` per channel (``m`` = metallic, ``k_d`` the base colour).
+
+    A surface reflects at most all the light: a base colour above 1 (allowed,
+    as for Phong's ``k_d``) gives F₀ = 1, never a Fresnel above 1 and with it a
+    negative diffuse weight ``(1 − F)(1 − m)``.
 
     Examples
     --------
@@ -181,7 +185,7 @@ def fresnel_f0(base_color, metallic: float) -> np.ndarray:
     """
     base = np.asarray(base_color, np.float64)
     m = float(metallic)
-    return DIELECTRIC_F0 * (1 - m) + base * m
+    return np.minimum(DIELECTRIC_F0 * (1 - m) + base * m, 1.0)
 
 
 def schlick_fresnel(d_vh, f0):

@@ -426,8 +426,8 @@ def _kind(light) -> str:
 
 
 def _f0(material) -> np.ndarray:
-    """``F₀ = 0.04 (1 − m) + k_d m`` per channel."""
-    return DIELECTRIC_F0 * (1 - material.metallic) + np.asarray(material.kd) * material.metallic
+    """``F₀ = min(1, 0.04 (1 − m) + k_d m)`` per channel: at most all the light, head-on."""
+    return np.minimum(DIELECTRIC_F0 * (1 - material.metallic) + np.asarray(material.kd) * material.metallic, 1.0)
 
 
 def _cook_torrance(n, l, v, nl, f, w_d, material, light, dtype):
