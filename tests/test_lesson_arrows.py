@@ -113,3 +113,14 @@ def test_the_check_catches_an_arrow_pointing_at_the_camera_and_one_under_the_but
     # the upper right of the sphere: its arrows reach under the toggles (lesson 4's old probe)
     found = problems(scene.replace("probe", [0.62, 0.55, 0.56]))
     assert any("under the toggles" in p for p in found), found
+
+
+def test_the_arrows_follow_the_first_light_that_shines():
+    """Lesson 7's sun: the spotlight switched off (intensity 0), the arrows showed its L and its n·l of 0."""
+    lesson = load_lesson(next(p for p in LESSONS if p.stem == "07-light-sources"))
+    sun = next(e for e in lesson.experiments if "w = 0" in e.label)
+    lights = sun.apply(lesson.scene).lights
+    assert directed_light_index(lesson.scene.lights) == 1, "the lesson's own scene: its spotlight, light 1"
+    assert not np.any(lights[1].diffuse_rgb) and np.any(lights[2].diffuse_rgb), [l.diffuse_rgb for l in lights]
+    assert directed_light_index(lights) == 2, "the spotlight is off: the arrows are the sun's"
+    assert directed_light_index(lights, choice=1) == 1, "a light chosen by hand stays chosen"

@@ -340,6 +340,11 @@ class Light:
     def ambient_rgb(self) -> RGB:
         return tuple(self.intensity * c for c in self.color)  # type: ignore[return-value]
 
+    @property
+    def shines(self) -> bool:
+        """Whether the light adds anything to the diffuse or specular term (``I_d`` or ``I_s`` not 0)."""
+        return any(self.diffuse_rgb) or any(self.specular_rgb)
+
 
 @dataclass(frozen=True)
 class AmbientLight(Light):

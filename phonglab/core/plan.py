@@ -172,7 +172,7 @@ def plan_effects(
 
     reaching = []
     for i, lt in direct:
-        if _is_zero(lt.diffuse_rgb) and _is_zero(lt.specular_rgb):
+        if not lt.shines:
             skipped.append((f"light {i}", "its intensity is 0: it adds nothing"))
         else:
             reaching.append((i, lt))

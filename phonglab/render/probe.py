@@ -37,13 +37,19 @@ def locate_probe(mesh: pv.PolyData, scene) -> tuple[np.ndarray, np.ndarray]:
 
 
 def directed_light_index(lights, choice: int | None = None) -> int | None:
-    """Index of the light the vectors L, R, H refer to: ``choice`` if it is a directed light, else the first one.
+    """Index of the light the vectors L, R, H refer to: ``choice`` if it is a directed light, else the first one that shines.
 
-    None when every light is ambient (no light has a direction).
+    A light switched off (intensity 0: it adds nothing) is passed over for
+    the next directed light that adds light, so that the arrows and the
+    readout follow the light that lights the picture (lesson 7 turns its
+    spotlight off for the sun). None when every light is ambient (no light
+    has a direction); the first directed light when none shines.
     """
     if choice is not None and 0 <= choice < len(lights) and not isinstance(lights[choice], core.AmbientLight):
         return choice
-    return next((i for i, light in enumerate(lights) if not isinstance(light, core.AmbientLight)), None)
+    directed = [i for i, light in enumerate(lights) if not isinstance(light, core.AmbientLight)]
+    shining = [i for i in directed if lights[i].shines]
+    return (shining or directed or [None])[0]
 
 
 def probe_vectors(scene, point, normal, light_index: int | None):
