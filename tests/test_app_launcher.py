@@ -8,6 +8,7 @@ wslink clients, so each rule is tried the way a browser or an attacker would.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import random
 import socket
 import struct
@@ -119,19 +120,25 @@ def test_two_tabs_get_two_processes_and_closing_a_tab_ends_its_process(launcher)
     assert launcher.process.poll() is None, log_tail(launcher.log)
 
 
-def test_a_tab_past_the_session_limit_is_told_the_server_is_full(launcher):
-    async def attempt():
-        students = [Student(launcher.url, seed=i) for i in range(MAX_SESSIONS)]
+@contextlib.asynccontextmanager
+async def every_slot_taken(launcher):
+    """MAX_SESSIONS students with their tabs open (closed again on the way out)."""
+    students = [Student(launcher.url, seed=i) for i in range(MAX_SESSIONS)]
+    try:
         for s in students:
             await s.open()
-        try:
-            async with aiohttp.ClientSession() as http:
-                async with http.post(launcher.url + "paraview/", json={},
-                                     headers={"Origin": f"http://127.0.0.1:{launcher.port}"}) as answer:
-                    return answer.status, await answer.json()
-        finally:
-            for s in students:
-                await s.close()
+        yield students
+    finally:
+        for s in students:
+            await s.close()
+
+
+def test_a_tab_past_the_session_limit_is_told_the_server_is_full(launcher):
+    async def attempt():
+        async with every_slot_taken(launcher), aiohttp.ClientSession() as http:
+            async with http.post(launcher.url + "paraview/", json={},
+                                 headers={"Origin": f"http://127.0.0.1:{launcher.port}"}) as answer:
+                return answer.status, await answer.json()
 
     status, answer = run(attempt())
     assert status == 503 and "full" in answer["error"], (status, answer)
@@ -157,6 +164,9 @@ async def _raw_session(launcher, secret_change=lambda s: s):
     http = aiohttp.ClientSession()
     async with http.post(launcher.url + "paraview/", json={}, headers={"Origin": origin}) as answer:
         launch = await answer.json()
+    if "sessionURL" not in launch:
+        await http.close()
+        raise AssertionError(f"the launcher answered {answer.status} {launch!r}")
     url = launch["sessionURL"].replace("USE_HOST", f"127.0.0.1:{launcher.port}").replace("ws://", "http://")
     ws = await http.ws_connect(url, headers={"Origin": origin}, max_msg_size=0)
     hello = {"wslink": "1.0", "id": protocol.HELLO_ID, "method": "wslink.hello",
@@ -227,3 +237,17 @@ def test_an_unknown_session_id_is_refused(launcher):
             return refused.value.status
 
     assert run(attempt()) == 404
+
+
+def test_a_tab_reloaded_at_the_session_limit_gets_the_slot_its_old_tab_gives_back(launcher):
+    """A reload closes the old tab's socket and asks for a session at once; its old process is still stopping."""
+    async def attempt():
+        async with every_slot_taken(launcher) as students:
+            await students[0].close()  # the reload: no wait for the old process to end
+            ws, http, answer = await _raw_session(launcher)
+            await ws.close()
+            await http.close()
+            return answer
+
+    answer = run(attempt())
+    assert answer and "result" in answer, answer

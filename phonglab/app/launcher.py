@@ -64,6 +64,11 @@ CONNECT_SECONDS = 30
 IDLE_SECONDS = 30 * 60
 #: the first port of the session processes' range, unless told otherwise
 FIRST_PORT = 9100
+#: seconds a session process has to exit after SIGTERM before it is killed
+KILL_SECONDS = 5 * STOP_SECONDS
+#: seconds a launch waits for a slot when every port is taken, so that a tab
+#: reloaded at the session limit gets the slot its old process is giving back
+SLOT_SECONDS = KILL_SECONDS + 1
 
 
 def launcher_config(*, command: list[str], first_port: int, sessions: int, log_dir: str, timeout: int) -> dict:
@@ -108,7 +113,7 @@ def _stop(process: subprocess.Popen) -> None:
     with contextlib.suppress(ProcessLookupError):
         process.send_signal(signal.SIGTERM)
     try:
-        process.wait(timeout=5 * STOP_SECONDS)
+        process.wait(timeout=KILL_SECONDS)
     except subprocess.TimeoutExpired:
         with contextlib.suppress(ProcessLookupError):
             process.kill()
@@ -154,6 +159,7 @@ class Launcher:
         self._connected: set[str] = set()
         self._ending: set = set()  # tasks ending sessions no tab connected to
         self._stopping: set[str] = set()  # sessions whose process is being stopped
+        self._freed = asyncio.Event()  # set each time a session's port is given back
         self._sockets: set = set()
         self._stopped = None
         self.web_app = web.Application()
@@ -169,9 +175,7 @@ class Launcher:
 
     async def _launch(self, request: web.Request):
         self._check_origin(request)
-        await self._reap()
-        # nothing from the request reaches the command line: the options are the launcher's own
-        session = self.sessions.createSession({"application": "phonglab", "secret": secrets.token_urlsafe(32)})
+        session = await self._free_slot()
         if session is None:
             full = FULL_MESSAGE.format(n=self.max_sessions)
             log.warning("launch refused: %s", full)
@@ -192,6 +196,27 @@ class Launcher:
         scheme = "wss" if request.headers["Origin"].lower().startswith("https:") else "ws"
         return web.json_response({"sessionURL": f"{scheme}://USE_HOST{self.url_prefix}proxy/{session['id']}",
                                   "secret": session["secret"]}, headers={"Cache-Control": "no-store"})
+
+    async def _free_slot(self):
+        """A new session with a port, or None when none came free within SLOT_SECONDS.
+
+        A tab that closes gives its port back only once its process has
+        exited, a second or so later; a reload at the session limit would be
+        told the server is full by its own old tab without this wait.
+        """
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + SLOT_SECONDS
+        while True:
+            await self._reap()
+            # nothing from the request reaches the command line: the options are the launcher's own
+            session = self.sessions.createSession({"application": "phonglab", "secret": secrets.token_urlsafe(32)})
+            remaining = deadline - loop.time()
+            if session is not None or remaining <= 0:
+                return session
+            self._freed.clear()
+            with contextlib.suppress(asyncio.TimeoutError):
+                # a port given back wakes the wait; a process that ended by itself is found by _reap
+                await asyncio.wait_for(self._freed.wait(), min(remaining, STOP_SECONDS))
 
     def _log_tail(self, session_id: str) -> str:
         try:
@@ -223,6 +248,7 @@ class Launcher:
                 self.sessions.deleteSession(session_id)
             self._connected.discard(session_id)
             self._stopping.discard(session_id)
+            self._freed.set()
             with contextlib.suppress(OSError):
                 self.processes._getLogFilePath(session_id).unlink()
 
