@@ -1,5 +1,5 @@
 """What the app's tests share: a LessonApp on a lesson folder of its own, a browser camera turned about the eye,
-and ``phonglab serve`` in a process of its own."""
+``phonglab serve`` in a process of its own, and a session server in a thread of the test's process."""
 
 from __future__ import annotations
 

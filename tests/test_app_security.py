@@ -97,10 +97,10 @@ class Client:
             if answer.get("id") == rpc_id:
                 return answer
 
-    async def hello(self, secret: str):
+    async def hello(self, secret: str, timeout: float = 30.0):
         await self.send({"wslink": "1.0", "id": protocol.HELLO_ID, "method": "wslink.hello",
                          "args": [{"secret": secret}], "kwargs": {}})
-        return await self.reply(protocol.HELLO_ID)
+        return await self.reply(protocol.HELLO_ID, timeout)
 
     async def call(self, method: str, args=(), kwargs=None, timeout: float = 30.0):
         rpc_id = f"rpc:c1:{next(self.ids)}"
@@ -123,30 +123,32 @@ async def secret_of(port: int) -> str:
     return answer["secret"]
 
 
-async def logged_in(port: int) -> Client:
+async def logged_in(port: int, timeout: float = 30.0) -> Client:
+    """A client whose hello was answered (within ``timeout`` seconds: a tab's session is built first)."""
     client = await Client(port).__aenter__()
-    answer = await client.hello(await secret_of(port))
+    answer = await client.hello(await secret_of(port), timeout)
     assert answer and "result" in answer, f"hello refused: {answer}"
     return client
 
 
-def run(coroutine):
+def run(coroutine, timeout: float = 120.0):
     """Run ``coroutine`` to its end in a thread of its own (Playwright's sync API, used by
-    the browser tests, leaves an event loop marked running in the main thread)."""
+    the browser tests, leaves an event loop marked running in the main thread); ``timeout``
+    seconds at most, a guard against a hang."""
     outcome = {}
 
     def target():
         try:
-            outcome["value"] = asyncio.run(asyncio.wait_for(coroutine, 120))
+            outcome["value"] = asyncio.run(asyncio.wait_for(coroutine, timeout))
         except BaseException as exc:  # handed to the test's thread
             outcome["error"] = exc
 
     thread = threading.Thread(target=target)
     thread.start()
-    thread.join(150)
+    thread.join(timeout + 30)
     if "error" in outcome:
         raise outcome["error"]
-    assert "value" in outcome, "the client did not finish within 150 s"
+    assert "value" in outcome, f"the client did not finish within {timeout + 30:.0f} s"
     return outcome["value"]
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +12,7 @@ import phonglab as pl
 from phonglab.scene import SceneError, catalog, load_scene, scene_from_dict
 from phonglab.scene.editing import RETYPE_MIN_DISTANCE, SPOT_DEFAULTS, retype_light, retyped_light_table
 
+LESSONS = Path(__file__).resolve().parent.parent / "lessons"
 MATERIAL = {"ka": 0.1, "kd": 0.5, "ks": 0.5, "shininess": 10}
 
 
@@ -99,3 +101,55 @@ def test_area_light_problems_are_each_reported_once():
         scene_from_dict(table(area_light=area))
     fields = sorted(e.field for e in info.value)
     assert fields == ["area_light.edge_v", "area_light.intensity"], str(info.value)
+
+
+#: edits inside one part (the page's sliders), good and refused ones; each is compared with the whole build
+ONE_PART_EDITS = [
+    ("material.shininess", 55.5), ("material.ks", [0.2, 0.3, 0.4]), ("material.kd", 0.5), ("material.opacity", 0.5),
+    ("material.shininess", -1), ("material.ks", "bright"), ("material.opacity", 2), ("material.kd", [1, 2]),
+    ("camera.eye", [1.0, 2.0, 6.0]), ("camera.infinite_viewer", True), ("camera.eye", [0.0, 0.0, 0.0]),
+    ("camera.view_angle", 400), ("camera.up", [0, 0, 0]),
+    ("lights[1].position", [1.0, 2.0, 3.0]), ("lights[1].intensity", 0.25), ("lights[1].color", [1, 0.5, 0]),
+    ("lights[1]", {"type": "point", "position": [0.5, 1.5, 2.5]}), ("lights[1].type", "spot"),
+    ("lights[1].type", "directional"), ("lights[1].homogeneous", [0.0, 1.0, 0.0, 0.0]),
+    ("lights[1].position", [1e12, 0.0, 0.0]), ("lights[1].intensity", -1), ("lights[1].attenuation", [0, 0, 0]),
+    ("lights[0].intensity", 0.5), ("lights[1].cutoff", 30),
+]
+
+
+def _whole_build(scene, path, value):
+    """``scene.replace(path, value)`` the way a file is read: every part built again from the table."""
+    from phonglab.scene.editing import _assign, _build
+    from phonglab.scene.fieldpath import scene_to_dict
+
+    data = scene_to_dict(scene)
+    _assign(data, path, value)
+    return _build(scene, data)
+
+
+def _outcome(make):
+    try:
+        return "scene", make()
+    except SceneError as exc:
+        return "refused", str(exc)
+
+
+@pytest.mark.parametrize("lesson", sorted(p.name for p in LESSONS.glob("[0-9]*.md")))
+def test_an_edit_inside_one_part_gives_what_the_whole_build_gives(lesson):
+    from phonglab.scene import load_lesson
+
+    scene = load_lesson(LESSONS / lesson).scene
+    for path, value in ONE_PART_EDITS:
+        if path.startswith("lights[1]") and len(scene.lights) < 2:
+            continue
+        fast, whole = _outcome(lambda: scene.replace(path, value)), _outcome(lambda: _whole_build(scene, path, value))
+        assert fast == whole, (lesson, path, value, fast, whole)
+
+
+def test_an_edit_inside_one_part_keeps_the_other_parts_as_they_are():
+    scene = load_scene("assets/scenes/sphere.toml")
+    shinier = scene.replace("material.shininess", 80)
+    assert shinier.material.shininess == 80 and shinier.camera is scene.camera and shinier.lights is scene.lights
+    moved = scene.replace("lights[1].position", [1, 2, 3])
+    assert moved.lights[1].position == (1.0, 2.0, 3.0) and moved.lights[0] is scene.lights[0], moved.lights
+    assert moved.material is scene.material and moved.camera is scene.camera

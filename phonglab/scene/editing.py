@@ -4,7 +4,11 @@
 turns the scene into the dictionary a TOML file would give
 (:func:`~phonglab.scene.fieldpath.scene_to_dict`), sets the value, and checks
 the result exactly as a file is checked (:func:`~phonglab.scene.build.scene_parts`),
-so a value refused in a file is refused here with the same message.
+so a value refused in a file is refused here with the same message. An edit
+inside the material, the camera or one light (every slider of the page)
+builds and checks that part alone, with the same builders, and the limits
+on the whole scene (:func:`~phonglab.scene.limits.check_limits`): the other
+parts were checked when the scene was made, and are kept as they are.
 
 Changing a light's type keeps the light where it was
 (:func:`retyped_light_table`, the one set of defaults for it). Lights and the
@@ -22,9 +26,10 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from phonglab.scene.build import Problems, scene_parts
+from phonglab.scene.build import Problems, build_camera, build_light, build_material, scene_parts
 from phonglab.scene.errors import SceneError
 from phonglab.scene.fieldpath import field_value, locate_field, parse_path, plain, scene_to_dict
+from phonglab.scene.limits import check_limits
 from phonglab.scene.schema import LIGHT_KEYS, light_type, table_light_type
 
 #: a spotlight's cone when a light becomes a spot
@@ -55,7 +60,17 @@ def replace_field(scene, path: str, value):
     """
     data = scene_to_dict(scene)
     _assign(data, path, value)
-    return _build(scene, data)
+    return _build(scene, data, _edited_part(path))
+
+
+def _edited_part(path: str):
+    """The one part of a scene an edit at ``path`` stays inside: ``"material"``, ``"camera"``, a light's index, or None."""
+    parts = parse_path(path)
+    if len(parts) < 2:
+        return None
+    if parts[0] in ("material", "camera"):
+        return parts[0]
+    return parts[1] if parts[0] == "lights" and isinstance(parts[1], int) else None
 
 
 def replace_fields(scene, settings):
@@ -99,18 +114,48 @@ def settings_problems(scene, settings) -> list[tuple[str | None, SceneError]]:
     return found
 
 
-def _build(scene, data: dict):
+def _build(scene, data: dict, part=None):
     """The scene ``data`` describes, checked; relative mesh paths resolve as for ``scene``.
 
     The scene's own geometry is kept as it is (its mesh file was checked when
-    the scene was loaded); a changed one is checked, on disk too.
+    the scene was loaded); a changed one is checked, on disk too. With
+    ``part`` (:func:`_edited_part`: the only part of ``data`` that differs
+    from ``scene``'s form), only that part is built again.
     """
+    if part is not None:
+        rebuilt = _rebuild_part(scene, data, part)
+        if rebuilt is not None:
+            return rebuilt
     base_dir = Path(scene.source).resolve().parent if scene.source else None
     problems = Problems()
     known = tuple(o.geometry for o in scene.all_objects)
     parts = scene_parts(data, problems, base_dir=base_dir, known_geometry=known)
     problems.raise_all()
     return dataclasses.replace(scene, **parts)
+
+
+def _rebuild_part(scene, data: dict, part):
+    """``scene`` with its ``part`` built from ``data`` and checked as :func:`_build` checks it, or None to build it all."""
+    if part == "material" and "material" not in data:
+        return None  # a scene of [[objects]]: its first object's material is inside them
+    problems = Problems()
+    if part == "material":
+        fields = {"material": build_material(data["material"], problems)}
+    elif part == "camera":
+        fields = {"camera": build_camera(data["camera"], problems)}
+    else:
+        lights = list(scene.lights)
+        lights[part] = build_light(data["lights"][part], problems, f"lights[{part}]")
+        fields = {"lights": tuple(lights)}
+    problems.raise_all()
+    if any(value is None for value in fields.values()):
+        return None
+    whole = {f.name: getattr(scene, f.name) for f in dataclasses.fields(scene)}
+    whole.update(fields)
+    for error in check_limits(whole, data):  # what needs the parts together
+        problems.add(error)
+    problems.raise_all()
+    return dataclasses.replace(scene, **fields)
 
 
 def _assign(data: dict, path: str, value) -> None:
