@@ -22,22 +22,26 @@ The accuracy lesson (``NN-accuracy.md``) also gets the panel of
 :mod:`phonglab.app.accuracy_panel` below the view: the accuracy plot and the
 error images of a picked method and mesh, computed in worker processes.
 
+A click, a turn and the view's size are handled by
+:class:`~phonglab.app.view_input.ViewInput`, which this class mixes in.
+
 Nothing a browser sends can stop the server: every handler catches its
 errors and reports them on the page.
 """
 
 from __future__ import annotations
 
-import functools
 import logging
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from trame.app import TrameApp
 
 from phonglab.app import controls as ctl
-from phonglab.app.control import ControlError, finite3, format_value
-from phonglab.app import eye, owned, page, sync, text
+from phonglab.app.control import ControlError
+from phonglab.app.control_state import ControlState
+from phonglab.app.wording import symbols_html
+from phonglab.app.view_input import MAX_PIXEL_SIDE, ViewInput, guarded as _guarded  # noqa: F401 (MAX_PIXEL_SIDE: the app's limit)
+from phonglab.app import eye, owned, page, shared, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app.check_question import CheckPanel
 from phonglab.app.compare_panel import ComparePanel
@@ -59,32 +63,15 @@ log = logging.getLogger(__name__)
 
 #: size of the server-side image in pixel mode (width, height)
 PIXEL_SIZE = (960, 720)
-#: largest side of the server's window (pixel mode image), in pixels
-MAX_PIXEL_SIDE = 1600
 #: seconds between sending a view update and refreshing the panels (lets the update leave first)
 PANEL_DELAY = 0.004
-
-
-def _guarded(method):
-    """Run a browser-triggered method; any failure becomes a notice on the page, never an exception."""
-
-    @functools.wraps(method)
-    def run(self, *args, **kwargs):
-        try:
-            return method(self, *args, **kwargs)
-        except Exception as exc:
-            log.exception("%s failed", method.__name__)
-            self.notify("error", f"Could not {method.__name__.replace('_', ' ')}: {owned.reason(exc)}")
-            return None
-
-    return run
 
 
 # the lesson list: titles, numbers and problems as the scene layer reads them
 from phonglab.scene.lessons import Entry, catalog, load_entry  # noqa: E402,F401
 
 
-class LessonApp(TrameApp):
+class LessonApp(ViewInput, TrameApp):
     """The lesson page for one browser tab.
 
     Parameters
@@ -101,7 +88,7 @@ class LessonApp(TrameApp):
         super().__init__(server)
         self.server.enable_module(MODULE)
         self.export_dir = Path(export_dir) if export_dir is not None else None
-        self.entries, first = catalog(target)
+        self.entries, first = shared.lesson_catalog(target)  # read-only, shared by every tab
         self.index = None
         self.entry = None
         self.scene = None
@@ -109,6 +96,9 @@ class LessonApp(TrameApp):
         self.view = None  # SceneView, created with the first good scene
         self.controls = ctl.ControlSet(ctl.Frame())  # the open lesson's controls
         self._watched = set()  # state keys with a change handler
+        self.control_state = ControlState()  # the control values written into the state
+        self._address_to_open = None  # the address whose lesson is being opened (_on_address)
+        self._glyphs = (None, {})  # the arrows as last formatted for the page: (what the view showed, state values)
         self._notice_serial = 0
         self._busy = False  # a control's change is being applied
         self._view_ms = (0.0, 0.0)  # wall and CPU ms of a control's update before its deferred panels
@@ -201,10 +191,10 @@ class LessonApp(TrameApp):
         self.check.open(entry.lesson if entry.ok else None)
         if not entry.ok:
             s.lesson_errors = entry.errors or ["this file has no scene"]
-            s.lesson_html = ""
-            s.lesson_goal_html = ""
-            s.experiments = []
-            s.question_html = s.answer_html = ""
+            s.update(shared.lesson_texts(None))
+            s.has_model_control = False
+            s.view__compare = False  # the previous lesson's comparison goes with its controls
+            self.compare.follow(None, False)
             self._mistake = None
             s.mistake, s.mistake_note = None, ""
             s.has_view = self.view is not None
@@ -216,14 +206,7 @@ class LessonApp(TrameApp):
         s.lesson_errors = []
         lesson = entry.lesson
         s.has_model_control = bool(lesson and "model" in lesson.controls)
-        s.lesson_goal_html = text.inline(lesson.goal) if lesson and lesson.goal else ""
-        s.lesson_html = text.render_markdown(text.strip_title(lesson.body, lesson.title)) if lesson else ""
-        s.experiments = [
-            {"index": i, "label": text.inline(x.label), "text": text.inline(x.text) if x.text else ""}
-            for i, x in enumerate(lesson.experiments)
-        ] if lesson else []
-        s.question_html = text.inline(lesson.question) if lesson and lesson.question else ""
-        s.answer_html = text.render_markdown(lesson.answer) if lesson and lesson.answer else ""
+        s.update(shared.lesson_texts(lesson))
         self._mistake = s.mistake = self._mistake_info()
         extra = {"view__compare": ctl.COMPARE_SWITCH}
         if self._mistake and self._mistake.get("available"):
@@ -232,7 +215,12 @@ class LessonApp(TrameApp):
                                        lesson.controls if lesson else (), extra)
         self.options = {"term": "color"}
         self.accuracy.open(entry, entry.scene)
-        self._show_scene(entry.scene, new_lesson=True)
+        # an address that opens this lesson: shown once, with its settings (not the lesson's own scene first)
+        query, self._address_to_open = self._address_to_open, None
+        scene, problems = self._address_settings(query, entry.scene) if query is not None else (entry.scene, [])
+        self._show_scene(scene, new_lesson=True, turned=bool(self.options.get("turned")))
+        if problems:
+            self.notify("warning", address.notice(problems))
 
     @_guarded
     def reset_lesson(self, *_, **__) -> None:
@@ -256,6 +244,7 @@ class LessonApp(TrameApp):
         except SceneError as exc:
             self.notify("error", f"experiment {experiment.label!r} could not be applied: {exc}")
             return
+        ctl.keep_hues(self.scene, scene, self.options)  # a coefficient set to 0 keeps its colour for later
         self._show_scene(scene)
         self.notify("info", f"Applied: {experiment.label}")
 
@@ -276,11 +265,8 @@ class LessonApp(TrameApp):
         if old is None or old.camera != scene.camera:  # the view angle is the camera's, or widened
             self.options = address.turned(self.options, turned)
             self._camera_moved = self._camera_moved or turned
-        if turned:
-            self.view.update(scene, keep_view_angle=True)
-        else:
-            self.view.update(scene)
-        if new_lesson and self._camera_moved:
+        self.view.update(scene, keep_view_angle=turned, scene_plan=self._planned(scene))
+        if new_lesson and self._camera_moved and not turned:
             # the browser turned the view: back to the lesson's camera
             self.view.reset_camera()
             self._camera_moved = False
@@ -384,21 +370,25 @@ class LessonApp(TrameApp):
         s = self.state
         # planner verdict, planned once and shared with the readout (and the view's shading)
         verdict = self._planned(scene)
-        s.plan_computed = [{"effect": e, "reason": r} for e, r in verdict.computed]
-        s.plan_skipped = [{"effect": e, "reason": r} for e, r in verdict.skipped]
+        # the reasons as the planner wrote them, and as the page shows them (escaped, k_a as k with subscript a)
+        s.plan_computed = [{"effect": e, "reason": r, "html": symbols_html(r)} for e, r in verdict.computed]
+        s.plan_skipped = [{"effect": e, "reason": r, "html": symbols_html(r)} for e, r in verdict.skipped]
         # probe readout and vector legend; over the core's picture they come with it (_refresh_pixels)
         if not s.pixel_mode:
-            s.update(self._probe_panels())
+            for key, value in self._probe_panels().items():
+                if s[key] != value:  # the legend and tips stay as they are while only colours change
+                    s[key] = value
         self.accuracy.follow(scene)
         self.compare.follow(scene, bool(self.options.get("compare")), self.view.size if self.view else None)
         # controls: drawn again only when their set changes; their values follow every scene
         rebuilt = self.controls.update(scene)
-        values = self._sync_control_values()
+        values = self.control_state.sync(s, self.controls, scene, self.options)
         # the address bar: the lesson and the settings that differ from the lesson's
         s[address.QUERY_KEY] = self.address.query(self.entry, scene, self.options, self.controls, values)
         if rebuilt:
             s.control_labels = {c.key: text.inline(c.label) for c in self.controls.widgets}
-            page.build_controls(self.server, self.controls.chosen, self.controls.widgets)
+            shared.controls_template(self.server, page.CONTROLS_TEMPLATE, self.controls.chosen, self.controls.widgets,
+                                     page.build_controls)
             for key in self.controls.by_key:
                 if key not in self._watched:
                     self._watched.add(key)
@@ -409,36 +399,24 @@ class LessonApp(TrameApp):
         scene = self.scene
         point, normal = self.view.probe
         camera = self.view.camera_state()
-        legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in self.view.legend()]
+        glyphs = (tuple(self.view.legend()), tuple(self.view.arrow_tips()), frozenset(self.view.hidden_letters()))
+        if glyphs != self._glyphs[0]:  # formatted again only when the arrows, their letters or what hides them move
+            legend = [{"letter": l, "meaning": m, "color": c} for l, m, c in glyphs[0]]
+            self._glyphs = (glyphs, {"legend": legend,
+                                     "arrow_tips": client.arrow_tips(list(glyphs[1]), legend, hidden=set(glyphs[2]))})
         return {
             "readout": probe_readout(scene, point, normal, self.view.light_index, mistake=self.view.mistake),
-            "legend": legend,
-            "arrow_tips": client.arrow_tips(self.view.arrow_tips(), legend, hidden=self.view.hidden_letters()),
+            **self._glyphs[1],
             # the camera the tips and readout are for (and, in pixel mode, the picture that comes with them)
             "arrow_camera": {"position": list(camera.eye), "view_angle": camera.view_angle},
         }
-
-    def _sync_control_values(self) -> dict:
-        """Write every control's value for the current scene into the state; returns them (state key -> value)."""
-        shown = {}
-        values = self.controls.values(self.scene, self.options)
-        for key, value in values.items():
-            control = self.controls.by_key[key]
-            # never echo a browser's own value back with rounding noise: a slider
-            # being dragged would jump back to an older position
-            if not control.same(self.state[key], value):
-                self.state[key] = value
-            if control.kind == "slider":
-                shown[key] = format_value(control, value)
-        if shown != self.state.control_values:
-            self.state.control_values = shown
-        return values
 
     # ------------------------------------------------------------------
     # browser input
 
     def _watcher(self, key):
         def on_change(**_):
+            self.control_state.written(key)
             self._on_control(key, self.state[key])
 
         return on_change
@@ -459,7 +437,8 @@ class LessonApp(TrameApp):
                 self.notify("error", f"Refused: {exc}. The previous value stays.")
                 self.state[key] = current
                 return
-            colours_only = Scene.changes(self.scene, scene).colours_only and scene.interpolation != "pixel"
+            # only colours changed: they alone go to the browser (in pixel mode too, for the mesh under the picture)
+            colours_only = Scene.changes(self.scene, scene).colours_only
             self.options = options
             self._show_scene(scene, colours_only=colours_only, defer_panels=True)
             if isinstance(self.state.notice, dict) and self.state.notice.get("kind") == "error":
@@ -472,137 +451,12 @@ class LessonApp(TrameApp):
         finally:
             self._busy = False
 
-    @_guarded
-    def on_pick(self, event=None, *_, **__) -> None:
-        """A click on the view: move the probe to the first surface point under it."""
-        try:
-            ray = (event or {}).get("ray") if isinstance(event, dict) else None
-            if not (isinstance(ray, list) and len(ray) == 2):
-                return
-            near, far = (finite3(p) for p in ray)
-            hit = self.view.ray_hit(near, far)
-            if hit is None:
-                return
-            point = [round(float(c), 6) for c in hit[0]]
-            if self.state.pick_target == "light" and self.view.light_index is not None:
-                # the light moves onto the line from the focal point through the click
-                scene = self.scene
-                frame = ctl.Frame.of_camera(self.entry.scene.camera)
-                offset = [p - f for p, f in zip(point, scene.camera.focal_point)]
-                azimuth, elevation, _ = ctl.place_of(offset, frame)
-                elevation = max(-89.0, min(89.0, elevation))
-                moved = ctl.move_light(scene, self.view.light_index, frame, azimuth=azimuth, elevation=elevation)
-                self._show_scene(moved)
-            else:
-                self._show_scene(self.scene.replace("probe", point))
-        except (ValueError, TypeError, SceneError) as exc:
-            self.notify("error", f"Refused a click: {exc}")
-        except Exception as exc:
-            log.exception("pick")
-            self.notify("error", f"Could not pick: {owned.reason(exc)}")
-
-    @_guarded
-    def on_camera(self, camera=None, *_, **__) -> None:
-        """The browser's camera after the student turned, zoomed or panned the view (the drag's end).
-
-        The view's camera is the scene's eye (:mod:`phonglab.app.eye`): the
-        core re-shades for it, and the arrows, markers, readout and eye
-        controls follow; the picture and numbers are exact for this camera.
-        """
-        self._cameras.offer(camera, final=True)
-
-    @_guarded
-    def on_camera_move(self, camera=None, *_, **__) -> None:
-        """The browser's camera during a drag: re-shade for the newest one, dropping stale ones."""
-        self._cameras.offer(camera, final=False)
-
-    def _apply_camera(self, camera, final: bool) -> None:
-        """Make the browser's ``camera`` the scene's and show the re-shaded scene (see :meth:`on_camera`).
-
-        During a drag only the mesh's colours go to the browser (its own
-        copy keeps turning smoothly); at the drag's end the arrows and
-        markers are synchronised too.
-        """
-        if self.scene is None or self.view is None:
-            return
-        clock = Stopwatch()
-        try:
-            scene = eye.scene_camera(self.scene, camera)
-            if scene is not self.scene and scene.probe is None:
-                # the default probe stays on the surface point it marks: turning the view moves the eye only
-                scene = scene.replace("probe", [round(float(c), 6) for c in self.view.probe[0]])
-        except (ValueError, TypeError, SceneError):
-            return  # a malformed camera from the browser is ignored
-        moved = scene is not self.scene
-        try:
-            if moved:
-                self.scene = scene
-                self.view.update(scene, keep_view_angle=True, defer_glyphs=not final, scene_plan=self._planned(scene))
-                self._camera_moved = True
-                self.options = address.turned(self.options, True)
-                if scene.interpolation != "pixel":
-                    self._push_colours(change=True)
-                record_lap("turn", *clock.split())  # a re-shade (not a camera already shown)
-        except Exception as exc:
-            log.exception("camera")
-            self.notify("error", f"Could not follow the view's camera: {type(exc).__name__}: {exc}")
-            return
-        if not moved and not (final and self.view.glyphs_stale):
-            return  # a camera already shown and synchronised (a click, a frame without motion): nothing to refresh
-        # the readout (and at the drag's end the arrows), once the colours have left for the browser
-        if final:
-            self._later.ask("turn end")
-        self._later.ask("panels")
-
-    def _end_turn(self) -> None:
-        """The drag's end: the arrows and markers reshaped and synchronised, the per-pixel picture made."""
-        if self.scene is None or self.view is None:
-            return
-        self.view.refresh_glyphs()
-        self.html_view.update()
-        self._refresh_pixels()
-
     def _job_failed(self, name: str, exc: Exception) -> None:
         """A put-off job raised: said on the page; the server and the other jobs go on."""
         log.error("%s failed", name, exc_info=exc)
         what = {"panels": "refresh the panels"}.get(name, "follow the view's camera")
         self.notify("error", f"Could not {what}: {type(exc).__name__}: {exc}")
         self.state.flush()
-
-    def _send_camera(self, force: bool = False) -> None:
-        """Send the view's camera to the browser when it moved since last sent (or ``force``).
-
-        Its angle is widened to hold the arrows and markers for the window's size
-        (:meth:`SceneView.update`): the browser's letters meet the arrows of the core's picture.
-        """
-        shown = self.view.camera_state()
-        if force or shown != self._camera_shown:
-            self.html_view.push_camera()
-        self._camera_shown = shown
-
-    def _on_view_ready(self) -> None:
-        """The page's 3D view is mounted (it waits for the lesson its address names): send it the view's camera."""
-        if self.view is not None and self.scene is not None:
-            self._send_camera(force=True)
-
-    def _on_view_size(self, view_size=None, **_) -> None:
-        """The view's size in the browser: the server window (pixel mode, framing) follows it."""
-        try:
-            size = (view_size or {}).get("size") or {}
-            width, height = int(size.get("width", 0)), int(size.get("height", 0))
-        except (AttributeError, TypeError, ValueError):
-            return
-        if self.view is None or not (64 <= width <= 4096 and 64 <= height <= 4096):
-            return
-        width, height = min(width, MAX_PIXEL_SIDE), min(height, MAX_PIXEL_SIDE)
-        if self.view.size != (width, height):
-            self.view.set_size((width, height))
-            if self.scene is not None:
-                self._send_camera()  # the angle that holds the arrows depends on the window's shape
-            if self.scene is not None and self.scene.interpolation == "pixel":
-                self._refresh_pixels()
-            if self.scene is not None and self.options.get("compare"):  # the comparison fills the view
-                self.compare.follow(self.scene, True, self.view.size)
 
     @_guarded
     def export_figure(self, kind="render", *_, **__) -> None:
@@ -637,7 +491,13 @@ class LessonApp(TrameApp):
                 self.notify("warning", problem)
                 return
             if index is not None and index != self.index:
-                self.open_lesson(index)
+                self._address_to_open = query  # open_lesson applies it before showing the lesson
+                try:
+                    self.open_lesson(index)
+                finally:
+                    applied, self._address_to_open = self._address_to_open is None, None
+                if applied:
+                    return
             self._apply_address(query)
         finally:
             self.state.page_ready = True
@@ -645,16 +505,24 @@ class LessonApp(TrameApp):
     @_guarded
     def _apply_address(self, query) -> None:
         """Apply the settings of an address to the open lesson, each checked by the page's own control."""
-        pairs, problems = address.read_query(query)
-        if pairs and self.scene is not None and self.entry is not None and self.entry.ok:
-            scratch = ctl.ControlSet(self.controls.frame, self.controls.lesson_paths, self.controls.extra)
-            scene, options, refused = address.apply_settings(pairs, self.scene, self.options, scratch)
-            problems += refused
-            if scene is not self.scene or options != self.options:
-                self.options = options
-                self._show_scene(scene, turned=bool(options.get("turned")))
+        if self.scene is not None and self.entry is not None and self.entry.ok:
+            old_options = self.options
+            scene, problems = self._address_settings(query, self.scene)
+            if scene is not self.scene or self.options != old_options:
+                self._show_scene(scene, turned=bool(self.options.get("turned")))
+        else:
+            problems = address.read_query(query)[1]
         if problems:
             self.notify("warning", address.notice(problems))
+
+    def _address_settings(self, query, scene):
+        """``scene`` and the view options with an address's settings applied: ``(scene, problems)``."""
+        pairs, problems = address.read_query(query)
+        if pairs:
+            scratch = ctl.ControlSet(self.controls.frame, self.controls.lesson_paths, self.controls.extra)
+            scene, self.options, refused = address.apply_settings(pairs, scene, self.options, scratch)
+            problems += refused
+        return scene, problems
 
     def _open_from_list(self, index=None, *_, **__):
         """A lesson picked in the list: close the list and open it."""
