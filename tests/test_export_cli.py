@@ -270,3 +270,29 @@ def test_mistake_lesson_without_a_mistake_key(lesson_file, out_dir, capsys):
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "no mistake key" in lines[0] and "zero-shininess" in lines[0], err
     assert list(out_dir.iterdir()) == []
+
+
+#: run in a fresh interpreter: ``phonglab export`` of a bad scene, then which renderer modules had loaded
+REFUSAL_IMPORTS = """
+import sys
+from phonglab.cli import main
+try:
+    status = main(["export", sys.argv[1], "-o", sys.argv[2]])
+except SystemExit as exc:
+    status = exc.code
+loaded = [m for m in ("vtk", "phonglab.render.view", "phonglab.render.shading", "phonglab.render.figures")
+          if m in sys.modules]
+print(status, ",".join(loaded) or "-")
+"""
+
+
+def test_a_bad_scene_is_refused_before_the_renderer_loads(tmp_path):
+    # every check runs before VTK and the render modules are imported: a refusal costs the reading of the file
+    bad = tmp_path / "bad.toml"
+    bad.write_text('geometry = {kind = "sphere", resolution = 1e300}\n', encoding="utf-8")
+    run = subprocess.run([sys.executable, "-c", REFUSAL_IMPORTS, str(bad), str(tmp_path / "out.png")],
+                         capture_output=True, text=True, timeout=300)
+    status, loaded = run.stdout.split()
+    assert status == "2" and "bad.toml" in run.stderr, (bad.read_text(), run.stdout, run.stderr)
+    assert loaded == "-", f"the renderer loaded before {bad.name} was refused: {loaded}; stderr {run.stderr}"
+    assert not (tmp_path / "out.png").exists()

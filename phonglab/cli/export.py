@@ -72,9 +72,8 @@ def _mistake_names() -> str:
 
 
 def run(args) -> int:
-    # rendering loads VTK: only when a figure is made
-    from phonglab.render import FigureError, figure
-    from phonglab.render.figures import stderr_progress
+    from phonglab.render import FigureError
+    from phonglab.render.figure_request import check_request
     from phonglab.scene import SceneError
 
     try:
@@ -83,21 +82,15 @@ def run(args) -> int:
             raise FigureError(f"supersample: must be from 1 to 4, got {args.supersample}")
         if args.compare and args.mistake is None:
             raise FigureError("--compare: needs --mistake NAME (or --mistake lesson) to compare with")
-        path = figure(
-            args.scene,
-            args.output,
-            size=size,
-            settings=args.settings,
-            vectors=AUTO if args.vectors is None else args.vectors,
-            terms=args.terms,
-            sweep=args.sweep or None,
-            plot=args.plot,
-            progress=stderr_progress if (args.sweep or args.terms or args.compare or args.models) else None,
-            supersample=args.supersample,
-            mistake=args.mistake,
-            compare=args.compare,
-            models=args.models,
-        )
+        # every file, flag and value is checked before VTK loads: a refusal costs the reading, not the renderer
+        request = check_request(args.scene, args.output, size=size, settings=args.settings,
+                                vectors=AUTO if args.vectors is None else args.vectors, terms=args.terms,
+                                sweep=args.sweep or None, plot=args.plot, supersample=args.supersample,
+                                mistake=args.mistake, compare=args.compare, models=args.models)
+        from phonglab.render.figures import render_request, stderr_progress
+
+        grid = args.sweep or args.terms or args.compare or args.models
+        path = render_request(request, progress=stderr_progress if grid else None)
     except (SceneError, FigureError) as exc:
         raise UsageError(_one_line(exc)) from None
     print(path)

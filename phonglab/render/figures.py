@@ -17,14 +17,11 @@ render and the mistaken one side by side.
 
 from __future__ import annotations
 
-import os
 import sys
 
 import numpy as np
 
 from phonglab.render import shading
-from phonglab.render._files import clean_stale_temporaries
-from phonglab.scene.limits import check_picture_work
 from phonglab.render.annotate import downsample
 from phonglab.render.captions import (
     LABEL_BOX,
@@ -39,6 +36,7 @@ from phonglab.render.captions import (
     wrong_term_labels,
 )
 from phonglab.render.errors import FigureError
+from phonglab.render.figure_request import FigureRequest, check_request
 from phonglab.render.glyphs import parse_vectors
 from phonglab.render.layout import (
     MIN_CONTRAST,
@@ -52,18 +50,7 @@ from phonglab.render.layout import (
     subject_contrast,
     unit,
 )
-from phonglab.render.options import (
-    AUTO,
-    DEFAULT_SIZE,
-    PLOTS,
-    apply_settings,
-    check_output,
-    check_render_work,
-    normalize_sweeps,
-    parse_size,
-    resolve_mistake,
-    resolve_source,
-)
+from phonglab.render.options import AUTO, DEFAULT_SIZE
 from phonglab.render.saving import save_figure, save_image
 from phonglab.render.view import BACKGROUND, SceneView
 
@@ -223,44 +210,20 @@ def figure(
     >>> pl.figure("lessons/03-diffuse.md", "mistake.png", mistake="lesson",
     ...           compare=True)                                 # doctest: +SKIP
     """
-    # check everything before the first render
-    path, ext = check_output(out_path)
-    clean_stale_temporaries(path.resolve().parent)  # what a killed export left behind
-    size = parse_size(size)
-    if plot is None:
-        supersample = check_render_work(size, supersample)
-    if plot is not None and plot not in PLOTS:
-        raise FigureError(f'plot: must be one of {", ".join(PLOTS)}, got "{plot}"')
-    if plot is not None and (terms or sweep):
-        raise FigureError("plot: a plot cannot be combined with terms or sweeps")
-    if terms and sweep:
-        raise FigureError("terms: per-term views cannot be combined with sweeps; choose one")
-    if compare and mistake is None:
-        raise FigureError('compare: needs a mistake to compare with, e.g. mistake="lesson"')
-    if compare and (terms or sweep or plot is not None):
-        raise FigureError("compare: the side-by-side comparison cannot be combined with terms, sweeps or plots")
-    if mistake is not None and plot is not None:
-        raise FigureError("mistake: plots show the correct model only; a mistake cannot be combined with plot")
-    if models and (terms or sweep or plot is not None or compare or mistake is not None):
-        raise FigureError("models: Phong beside Cook–Torrance cannot be combined with terms, sweeps, plots or "
-                          "a mistake")
-    base, lesson = resolve_source(scene_or_path)
-    source = os.fspath(scene_or_path) if isinstance(scene_or_path, (str, os.PathLike)) else ""
-    mistake = resolve_mistake(mistake, lesson, source)
-    scene = apply_settings(base, settings)
-    if plot is None:  # a per-pixel area light's rays follow the picture's pixels
-        check_picture_work(scene, size[0] * size[1] * supersample**2)
-    sweeps = normalize_sweeps(sweep, scene)
-    if sweeps:
-        # the grid must have room for its cells before n × m scenes are built
-        rows, cols = (len(sweeps[0][1]), len(sweeps[1][1])) if len(sweeps) == 2 else (1, len(sweeps[0][1]))
-        grid_layout(size, rows, cols, title=bool(scene.title), row_labels=len(sweeps) == 2, col_labels=True)
-    grid = bool(terms or sweeps or compare or models)
-    letters = (None if grid else "NLRVH") if vectors == AUTO else vectors
-    try:
-        letters = parse_vectors(letters)
-    except ValueError as exc:
-        raise FigureError(str(exc)) from None
+    request = check_request(scene_or_path, out_path, size=size, settings=settings, vectors=vectors, terms=terms,
+                            sweep=sweep, plot=plot, supersample=supersample, mistake=mistake, compare=compare,
+                            models=models)
+    return render_request(request, progress=progress, background=background)
+
+
+def render_request(request: FigureRequest, *, progress=None, background=BACKGROUND) -> Path:
+    """Render a figure :func:`~phonglab.render.figure_request.check_request` has checked; the file written.
+
+    ``progress`` and ``background`` are those of :func:`figure`.
+    """
+    path, ext, size, supersample, scene = request.path, request.ext, request.size, request.supersample, request.scene
+    letters, plot, terms, sweeps, mistake = request.letters, request.plot, request.terms, request.sweeps, request.mistake
+    compare, models = request.compare, request.models
     if progress is True:
         progress = stderr_progress
 
