@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 
-from phonglab.bench import ui
+from phonglab.bench import ui, ui_report
 
 
 def test_the_turn_report_gives_median_and_p90_ratios(capsys):
@@ -39,3 +39,33 @@ def test_the_server_records_wall_and_cpu_time_and_the_report_shows_both(tmp_path
     ui._report_turn(turn, [200.0])
     out = capsys.readouterr().out
     assert "(of which the server's own CPU time: median 22.0 ms)" in out, out
+
+
+def test_a_probe_keeps_only_the_server_records_its_own_steps_bring(tmp_path, monkeypatch):
+    # two tabs of one server record under one label; a turn's panels record under it too
+    from phonglab.app import timing
+    from phonglab.bench.ui_probe import Probe
+
+    path = tmp_path / "timing.txt"
+    monkeypatch.setenv(timing.ENV, str(path))
+    first, second = (Probe(None, timing_path=path, label="view") for _ in range(2))
+    timing.record_lap("view", 10.0, 5.0)  # a warm-up step
+    first.start_measuring()
+    second.start_measuring()
+    for probe, wall, cpu in ((first, 20.0, 4.0), (second, 30.0, 3.0)):
+        before = probe.records()
+        timing.record_lap("view", wall, cpu)
+        probe.keep(100.0, before)
+    timing.record_lap("view", 99.0, 99.0)  # the panels after a drag: no key press's
+    got = [(p.server_ms(), p.server_ms(cpu=True)) for p in (first, second)]
+    assert got == [([20.0], [4.0]), ([30.0], [3.0])], got
+
+
+def test_the_lesson_report_gives_the_server_process_cpu_against_its_target(capsys):
+    lesson = {"latency_ms": [50.0, 70.0], "process_cpu_ms": [2.5, 2.9, 3.6], "server_cpu_ms": [1.5, 1.9],
+              "points": 1986}
+    ui_report._report_lesson(lesson)
+    out = capsys.readouterr().out
+    assert "median 2.90 ms" in out and "target <= 3 ms  PASS" in out and "handlers: median 1.70 ms" in out, out
+    ui_report._report_lesson({**lesson, "process_cpu_ms": [3.5]})
+    assert "MISS" in capsys.readouterr().out
