@@ -212,6 +212,13 @@ def test_the_address_is_bounded():
     assert address.read_query(None) == ([], []) and address.read_query(42)[0] == []
 
 
+def test_the_keys_of_trames_own_page_are_no_settings():
+    # a notebook's iframe opens the page at ?ui=main&reconnect=auto: no notice about settings it does not have
+    query = "?ui=main&reconnect=auto&exposure=1.5"
+    scene, _, problems = _open(SPECULAR, query)
+    assert problems == [] and scene.exposure == 1.5, (query, problems)
+
+
 def test_the_notice_is_one_line():
     _, _, problems = _open(SPECULAR, "?interpolation=banana&colour=red")
     text = address.notice(problems)
@@ -307,6 +314,26 @@ def test_a_tab_writes_its_settings_and_another_tab_opens_them(make_app):
     text = other.state.notice["text"]
     assert "(lights[1].exponent) = -3," in text and "a number of 0 or more" in text, text
     assert other.state[address.QUERY_KEY] == "?lesson=02-spot&lights[1].cutoff=40"
+
+
+def test_an_eye_slider_after_a_turn_ends_the_turned_view_in_the_address(make_app):
+    # a turn shows the browser's camera as it is (view.turned); the eye's slider then sets a camera of its own,
+    # framed as the lesson frames it, so the address must no longer say the view is turned
+    from app_support import browser_camera
+
+    app = make_app()
+    app._apply_camera(browser_camera(app.scene, 25), final=True)
+    app._refresh_panels()
+    turned = app.state[address.QUERY_KEY]
+    assert "view.turned=true" in turned, turned
+    app._on_control("camera__azimuth", 10.0)
+    app._refresh_panels()
+    query = app.state[address.QUERY_KEY]
+    assert "view.turned" not in query and "camera.azimuth=10" in query, (turned, query, app.options)
+    other = make_app()
+    other.state[address.REQUEST_KEY] = query
+    other._on_address()
+    assert other.scene.camera == app.scene.camera and other.options == app.options, (query, other.options)
 
 
 def test_the_address_written_stays_within_the_bounds_it_is_read_with(monkeypatch):

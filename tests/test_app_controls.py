@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,6 +15,8 @@ from phonglab.app import controls as ctl
 from phonglab.app.control import format_value
 from phonglab.bench.scenes import red_sphere
 from phonglab.scene import Camera
+
+LESSONS = Path(__file__).resolve().parent.parent / "lessons"
 
 
 def make_scene(**overrides):
@@ -88,6 +91,17 @@ def test_shininess_slider_is_log10_alpha_over_1_to_1000(scene, by_path):
         new, _ = control.apply(scene, log_alpha, {})
         assert new.material.shininess == pytest.approx(alpha, rel=1e-5), log_alpha
     assert format_value(control, 2.0) == "100"
+
+
+@pytest.mark.parametrize("log_alpha", [math.log10(30.0), 1.66, 0.5, 2.37, 0.0, 3.0])
+def test_the_shininess_slider_shows_the_alpha_the_readout_writes(scene, by_path, log_alpha):
+    """The number beside the slider is the exponent of the readout's max(0, c)^α (46 beside ^45.71 was not)."""
+    from phonglab.app.equation import exponent
+
+    control = by_path["material.shininess.log"]
+    new, _ = control.apply(scene, log_alpha, {})
+    shown, written = format_value(control, log_alpha), exponent(new.material.shininess)
+    assert shown == written, (log_alpha, new.material.shininess, shown, written)
 
 
 def test_level_and_colour_split_an_rgb_coefficient(scene, by_path):
@@ -250,3 +264,57 @@ def test_a_control_sets_field_reads_equal_the_scene_layers_and_are_its_own(scene
     # a value handed out is a copy: changing it changes nothing for the next reader
     first.read_field(scene, "material.kd").append(9)
     assert first.read_field(scene, "material.kd") == [0.8, 0.3, 0.2]
+
+
+def _edits(controls):
+    """A value for every widget: a slider's middle and a quarter, each select's items, each switch flipped."""
+    for control in controls.widgets:
+        if control.kind == "slider":
+            for share in (0.5, 0.25):
+                yield control, control.low + share * (control.high - control.low)
+        elif control.kind == "select":
+            for value, _ in control.items:
+                yield control, value
+        elif control.kind == "switch":
+            yield control, "flip"
+        elif control.kind == "color":
+            yield control, "#3366cc"
+
+
+@pytest.mark.parametrize("lesson", sorted(p.name for p in LESSONS.glob("[0-9]*.md")))
+def test_a_control_sets_values_after_each_edit_are_what_reading_every_control_gives(lesson):
+    # the set reads again only the controls of the fields that changed: every other value must be the same
+    from phonglab.scene import load_lesson
+
+    entry = load_lesson(LESSONS / lesson)
+    scene, options = entry.scene, {"term": "color"}
+    controls = ctl.ControlSet(ctl.Frame.of_camera(scene.camera), entry.controls)
+    controls.update(scene)
+    steps = [(c, v) for c, v in _edits(controls)][:60]
+    steps.append((None, ("camera.focal_point", [0.25, -0.25, 0.5])))  # no widget moves it; the lights' places do
+    for control, value in steps:
+        try:
+            if control is None:
+                scene = scene.replace(*value)
+            else:
+                value = not control.read(scene, options) if value == "flip" else value
+                scene, options = control.apply(scene, value, options)
+        except ctl.ControlError:
+            continue
+        controls.update(scene)
+        got = controls.values(scene, options)
+        fresh = {key: c.read(scene, options) for key, c in controls.by_key.items()}
+        assert got == fresh, (lesson, control and control.path, value,
+                              {k: (got[k], fresh[k]) for k in fresh if got.get(k) != fresh[k]})
+
+
+def test_a_coefficient_an_experiment_sets_to_0_keeps_its_colour(scene, by_path):
+    """Lesson 1's "Ambient only" sets k_d = 0: the swatch turned white and k_d raised again gave a white sphere."""
+    level, colour = by_path["material.kd.level"], by_path["material.kd.color"]
+    hue = ctl.split_level(scene.material.kd)[1]
+    dark = scene.replace("material.kd", 0)
+    options = ctl.keep_hues(scene, dark, {})
+    assert colour.read(dark, options) == colour.read(scene, {}), options
+    raised, _ = level.apply(dark, 0.5, options)
+    assert raised.material.kd == pytest.approx([0.5 * c for c in hue]), raised.material.kd
+    assert ctl.keep_hues(dark, dark, {}) == {}, "a coefficient already at 0 has no colour to keep"

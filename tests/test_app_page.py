@@ -70,6 +70,28 @@ def test_opening_lessons_fills_text_controls_and_errors(app):
     assert s.lesson_title == "A broken lesson", "a bad index leaves the page as it was"
 
 
+def test_the_planners_reasons_and_the_readouts_notes_show_symbols_with_subscripts(app):
+    """The planner wrote "k_a ∘ I_a = …" and the page showed the underscores (a student-eye review)."""
+    from phonglab.app.wording import symbols_html
+
+    rows = app.state.plan_computed + app.state.plan_skipped
+    assert rows and all(row["html"] == symbols_html(row["reason"]) for row in rows), rows
+    assert any("<sub>a</sub>" in row["html"] and "_" not in row["html"] for row in rows), rows
+    readout = app.state.readout
+    assert readout["notes_html"] == [symbols_html(note) for note in readout["notes"]], readout["notes"]
+
+
+def test_a_broken_lesson_opened_after_a_comparison_shows_neither_the_comparison_nor_its_button(app):
+    s = app.state
+    app._on_control("view__compare", True)
+    assert s.view__compare is True and s.compare_png["status"] in ("making", "ready"), s.compare_png
+    app.open_lesson(1)
+    assert s.lesson_errors, "lesson 3 is the broken one"
+    assert s.view__compare is False and s.has_model_control is False and s.compare_png["status"] == "idle", \
+        (s.view__compare, s.has_model_control, s.compare_png)
+    assert s.lesson_html == "" and s.experiments == [] and s.answer_html == "", s.lesson_html
+
+
 def test_a_colour_change_pushes_exactly_the_views_new_colours(app):
     before = np.array(app.view.mesh.point_data[COLOR_ARRAY])
     app._on_control("material__ks__level", 0.2)
@@ -138,7 +160,7 @@ def test_bad_input_is_refused_visibly_and_the_scene_stays(app, key, value):
 
 
 def test_an_unexpected_failure_is_reported_not_raised(app, monkeypatch):
-    def broken(scene):
+    def broken(scene, **_):
         raise RuntimeError("boom")
 
     monkeypatch.setattr(app.view, "update", broken)
@@ -287,5 +309,27 @@ def test_every_course_lesson_opens_in_the_app_and_its_experiments_apply(tmp_path
                 app.apply_experiment(k)
                 assert s.notice["kind"] != "error", (where, experiment.label, s.notice)
                 assert app.scene == before.replace_many(experiment.settings), (where, experiment.label)
+    finally:
+        app.close()
+
+
+def test_an_experiment_that_sets_k_d_to_0_leaves_the_page_its_colour(tmp_path):
+    """Lesson 1's "Ambient only", then the k_d slider up again: the sphere gets its colour back, not white."""
+    from pathlib import Path
+
+    from trame.app import get_server
+
+    from phonglab.app.control import rgb_to_hex
+
+    source = Path(__file__).resolve().parents[1] / "lessons" / "01-light-and-surfaces.md"
+    (tmp_path / source.name).write_text(source.read_text(encoding="utf-8"), encoding="utf-8")
+    app = LessonApp(get_server(f"hue-{tmp_path.name}", client_type="vue3"), target=tmp_path)
+    try:
+        kd = app.scene.material.kd
+        ambient_only = next(i for i, e in enumerate(app.entry.lesson.experiments) if e.label == "Ambient only")
+        app.apply_experiment(ambient_only)
+        assert max(app.scene.material.kd) == 0 and app.state.material__kd__color == rgb_to_hex([c / max(kd) for c in kd])
+        app._on_control("material__kd__level", max(kd))
+        assert app.scene.material.kd == pytest.approx(kd), (kd, app.scene.material.kd)
     finally:
         app.close()

@@ -306,3 +306,47 @@ def test_two_lights_blinn_phong_puts_light_1s_specular_beside_n_dot_h(lit_by_bot
                      eye=scene.camera.eye, model="blinn-phong", two_sided=scene.two_sided)
     assert values(dots["n·h"]["term"]["value"]) == pytest.approx(alone.specular[0], abs=5e-4), (dots, alone.specular[0])
     assert max(alone.specular[0]) > 0.1, alone.specular[0]  # n = h: light 1's Blinn highlight
+
+
+@pytest.mark.parametrize("lesson", sorted(p.name for p in LESSONS.glob("[0-9]*.md")))
+def test_each_worked_rows_mathml_is_the_one_latex2mathml_writes(lesson, monkeypatch):
+    # a row's numbers are put into the MathML of its formula: the markup must be the converter's own
+    from phonglab.app import equation, text
+    from phonglab.render.mesh import build_mesh
+
+    rows = []
+    own = equation.as_mathml
+
+    def spy(tex):
+        rows.append(tex)
+        return own(tex)
+
+    monkeypatch.setattr(equation, "as_mathml", spy)
+    scene = load_lesson(LESSONS / lesson).scene
+    mesh = build_mesh(scene.geometry)
+    rng = np.random.default_rng(7)
+    picks = rng.choice(mesh.n_points, size=2, replace=False)
+    light = next((i for i, x in enumerate(scene.lights) if not isinstance(x, pl.AmbientLight)), None)
+    for model in ("phong", "blinn-phong"):
+        for mistake in (None, *MISTAKES):
+            for shininess in (7.25, 999.5):
+                edited = scene.replace("model", model).replace("material.shininess", shininess)
+                for i in picks:
+                    with np.errstate(all="ignore"):
+                        probe_readout(edited, mesh.points[i], mesh.point_data["Normals"][i], light, mistake=mistake)
+    assert rows, lesson
+    wrong = [tex for tex in set(rows) if own(tex) != text.mathml(tex)]
+    assert not wrong, (lesson, wrong[:3])
+
+
+def test_cook_torrance_says_why_its_factors_are_0_where_the_eye_is_below_the_surface():
+    """Lesson 13 turned: D and V read "= 0 = 0.000" with nothing to say why (a student-eye review)."""
+    scene = load_lesson(LESSONS / "13-physically-based.md").scene
+    assert scene.model == "cook-torrance", scene.model
+    eye = np.asarray(scene.camera.eye, dtype=float)
+    away = -eye / np.linalg.norm(eye)  # the far side of a sphere at the origin: its normal faces away from the eye
+    below = probe_readout(scene, away, away, 1)
+    facing = probe_readout(scene, -away, -away, 1)
+    says = "the eye is below the surface"
+    assert any(says in n for n in below["notes"]), below["notes"]
+    assert not any(says in n for n in facing["notes"]), facing["notes"]

@@ -76,3 +76,18 @@ def test_an_address_notice_shows_hidden_characters_escaped(sentence):
         assert bad not in text, (bad, text)
     # shown as Python writes them; a line separator is white space, read as a space
     assert "\\x00" in sentence("\x00") and "\\u202e" in sentence("\u202e"), (sentence("\x00"), sentence("\u202e"))
+
+
+@pytest.mark.parametrize("text, shown", [
+    ("k_a ∘ I_a = (0.0225, 0.045, 0.1125), the same at every point",
+     "<i>k</i><sub>a</sub> ∘ <i>I</i><sub>a</sub> = (0.0225, 0.045, 0.1125), the same at every point"),
+    ("k_d > 0 and a light reaches the surface", "<i>k</i><sub>d</sub> &gt; 0 and a light reaches the surface"),
+    ("its material's k_a, k_d, k_s and α are used",
+     "its material's <i>k</i><sub>a</sub>, <i>k</i><sub>d</sub>, <i>k</i><sub>s</sub> and α are used"),
+    ("<img src=x onerror=alert(1)> f_l", "&lt;img src=x onerror=alert(1)&gt; <i>f</i><sub>l</sub>"),
+    ("max_x, snake_case, k_ab and x_1 stay as they are", "max_x, snake_case, k_ab and x_1 stay as they are"),
+])
+def test_symbols_in_plain_sentences_get_their_subscripts_and_nothing_else_is_markup(text, shown):
+    from phonglab.app.wording import symbols_html
+
+    assert symbols_html(text) == shown, text

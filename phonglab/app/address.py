@@ -104,6 +104,8 @@ FILE_FIELDS = re.compile(
 )
 #: the default view options of a lesson (lesson_app resets to these)
 DEFAULT_OPTIONS = {"term": "color"}
+#: keys of an address that trame's own page reads (its iframe in a notebook opens ``?ui=main&reconnect=auto``)
+CLIENT_KEYS = frozenset(("ui", "reconnect"))
 
 
 #: a view turned by the mouse is shown through the browser's camera as it is (its view angle not widened
@@ -289,7 +291,10 @@ def _same_value(a, b) -> bool:
 
 def differing_fields(scene, other) -> list[str]:
     """The file-form fields (:data:`FILE_FIELDS`) in which ``other`` is not ``scene``, to :data:`SAME`."""
-    a, b = _fields(scene_to_dict(scene)), _fields(scene_to_dict(other))
+    return _differing(_fields(scene_to_dict(scene)), _fields(scene_to_dict(other)))
+
+
+def _differing(a: dict, b: dict) -> list[str]:  # differing_fields of two scenes' _fields
     return [path for path in a if FILE_FIELDS.fullmatch(path)
             and (path not in b or not _same_value(a[path], b[path]))]
 
@@ -322,7 +327,8 @@ class ViewAddress:
         self._reference_key = None
         self._reference = None
         self._defaults: dict = {}
-        self._reopened: dict = {}  # (lesson scene id, settings) -> the scene they open: the last few kept
+        # (lesson scene id, settings) -> [what they open, its file-form fields once asked]: the last few kept
+        self._reopened: dict = {}
 
     def _reference_scene(self, entry, controls, types) -> object:
         """The lesson's scene with the light ``types`` (``[(path, text)]``) applied: what the other settings differ from."""
@@ -384,13 +390,24 @@ class ViewAddress:
 
     def reopen(self, entry, settings, controls):
         """What a fresh tab opens for ``settings``: ``(scene, options, problems)`` (the last few are kept)."""
+        return self._kept(entry, settings, controls)[0]
+
+    def _kept(self, entry, settings, controls) -> list:
+        """``[reopen(...), its scene's file-form fields or None until asked]`` for ``settings``."""
         key = (id(entry.scene), tuple(settings))
         if key not in self._reopened:
             scratch = type(controls)(controls.frame, controls.lesson_paths, controls.extra)
-            self._reopened[key] = apply_settings(settings, entry.scene, dict(DEFAULT_OPTIONS), scratch)
+            self._reopened[key] = [apply_settings(settings, entry.scene, dict(DEFAULT_OPTIONS), scratch), None]
             while len(self._reopened) > 8:
                 self._reopened.pop(next(iter(self._reopened)))
         return self._reopened[key]
+
+    def _reopened_differ(self, entry, settings, controls, fields) -> list[str]:
+        """:func:`differing_fields` of the scene with ``fields`` and what ``settings`` reopen (its fields kept with it)."""
+        kept = self._kept(entry, settings, controls)
+        if kept[1] is None:
+            kept[1] = _fields(scene_to_dict(kept[0][0]))
+        return _differing(fields, kept[1])
 
     def faithful(self, entry, scene, options, controls, settings) -> list[tuple[str, str]]:
         """``settings`` with, in file form, each scene field they do not bring back.
@@ -402,9 +419,9 @@ class ViewAddress:
         Three rounds at most: the field values are exact, so one usually does.
         """
         settings = list(settings)
+        fields = _fields(controls.file_form(scene))  # the file form the controls read the scene's values from
         for _ in range(3):
-            reopened, _, problems = self.reopen(entry, settings, controls)
-            missing = differing_fields(scene, reopened)
+            missing = self._reopened_differ(entry, settings, controls, fields)
             if not missing:
                 break
             for path in missing:
@@ -452,7 +469,7 @@ def read_query(query) -> tuple[list[tuple[str, str]], list[str]]:
     # at most one field more than a full address (the lesson and MAX_SETTINGS settings): enough to tell
     fields = query.lstrip("?").split("&")[: MAX_SETTINGS + 2]
     pairs = parse_qsl("&".join(fields), keep_blank_values=True)
-    pairs = [(k, v) for k, v in pairs if k != "lesson"]
+    pairs = [(k, v) for k, v in pairs if k != "lesson" and k not in CLIENT_KEYS]
     problems = []
     if len(pairs) > MAX_SETTINGS:
         problems.append(wording.too_many(MAX_SETTINGS))

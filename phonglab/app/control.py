@@ -14,6 +14,7 @@ Which controls a scene gets, and what each one edits, is
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 import re
@@ -22,6 +23,7 @@ from typing import Callable
 
 import numpy as np
 
+from phonglab.app.equation import exponent
 from phonglab.app.keys import state_key
 from phonglab.core.display import display_bytes, srgb_decode
 from phonglab.scene import SceneError
@@ -208,6 +210,12 @@ def rgb_to_hex(rgb) -> str:
     Pickers show and return sRGB, as colour-managed tools do; the scene stores
     linear values (:func:`hex_to_rgb` decodes). Linear 0.5 shows as ``#bcbcbc``.
     """
+    return _srgb_hex(tuple(float(c) for c in rgb))
+
+
+@functools.lru_cache(maxsize=1024)
+def _srgb_hex(rgb: tuple) -> str:
+    """:func:`rgb_to_hex` of a tuple of floats, remembered (the colours of a scene seldom change)."""
     encoded = display_bytes(np.asarray(rgb, dtype=np.float64), encoding="srgb")
     return "#" + "".join(f"{int(c):02x}" for c in encoded)
 
@@ -226,11 +234,24 @@ def split_level(rgb) -> tuple[float, tuple[float, float, float]]:
     return level, tuple(c / level for c in rgb)
 
 
+#: decimals the shininess slider's α is rounded to when it is written into the scene
+ALPHA_DECIMALS = 6
+
+
+def slider_alpha(log_alpha: float) -> float:
+    """The shininess α the log slider's value ``log_alpha`` writes into the scene."""
+    return round(10.0**log_alpha, ALPHA_DECIMALS)
+
+
 def format_value(control: Control, value) -> str:
-    """A slider value as the page shows it (α for the log slider)."""
+    """A slider value as the page shows it (α for the log slider).
+
+    α is written as the readout writes the exponent (:func:`~phonglab.app.equation.exponent`):
+    a whole number as it is, else with two decimals, so the slider and the
+    readout's ``max(0, c)^α`` show the same number.
+    """
     if control.fmt == "alpha":
-        alpha = 10.0**value
-        return f"{alpha:.0f}" if alpha >= 10 else f"{alpha:.2f}"
+        return exponent(slider_alpha(value))
     return control.fmt.format(value) + control.unit
 
 

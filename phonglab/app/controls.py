@@ -37,8 +37,8 @@ import re
 from dataclasses import dataclass
 
 from phonglab import core
-from phonglab.app.control import Control, ControlError, hex_to_rgb, rgb_to_hex, split_level
-from phonglab.scene import PARAMETRIC_KINDS, SceneError, field_value, parse_path, scene_to_dict
+from phonglab.app.control import Control, ControlError, hex_to_rgb, rgb_to_hex, slider_alpha, split_level
+from phonglab.scene import PARAMETRIC_KINDS, Scene, SceneError, field_value, parse_path, scene_to_dict
 from phonglab.scene.schema import SCENE_FIELDS
 
 #: term view choices: value shown by the view -> label
@@ -97,6 +97,31 @@ def _field(path, label, kind, read_field=field_value, **kwargs) -> Control:
     return Control(path=path, label=label, kind=kind, read=read, write=write, **kwargs)
 
 
+#: the material's RGB coefficients with a level slider and a colour each: (field, symbol)
+COEFFICIENTS = (("ka", "k_a"), ("kd", "k_d"), ("ks", "k_s"))
+
+
+def _hue_key(path: str) -> str:
+    """The tab's option that remembers the hue of coefficient ``path`` while its level is 0."""
+    return f"hue:{path}"
+
+
+def keep_hues(old, new, options) -> dict:
+    """``options`` remembering the hue of each material coefficient ``new`` sets to 0 from a level above 0.
+
+    An experiment that sets ``material.kd = 0`` (lesson 1's "Ambient only")
+    otherwise left nothing to bring the colour back: the colour swatch turned
+    white, and the k_d slider raised again gave a white material. The hue is
+    what the swatch shows and the slider uses while the level is 0, as after
+    a slider step to 0.
+    """
+    for name, _ in COEFFICIENTS:
+        level, hue = split_level(getattr(old.material, name))
+        if level > 0 and split_level(getattr(new.material, name))[0] == 0:
+            options[_hue_key(f"material.{name}")] = hue
+    return options
+
+
 def _coefficient(name: str, symbol: str, group: str) -> list[Control]:
     """``material.NAME.level`` (slider) and ``material.NAME.color`` (hue picker)."""
     path = f"material.{name}"
@@ -106,17 +131,17 @@ def _coefficient(name: str, symbol: str, group: str) -> list[Control]:
 
     def level_write(scene, value, options):
         _, hue = split_level(getattr(scene.material, name))
-        hue = options.get(f"hue:{path}", hue)
+        hue = options.get(_hue_key(path), hue)
         return scene.replace(path, [value * c for c in hue]), options
 
     def color_read(scene, options):
         level, hue = split_level(getattr(scene.material, name))
-        return rgb_to_hex(options.get(f"hue:{path}", hue) if level == 0 else hue)
+        return rgb_to_hex(options.get(_hue_key(path), hue) if level == 0 else hue)
 
     def color_write(scene, value, options):
         level, _ = split_level(getattr(scene.material, name))
         _, hue = split_level(hex_to_rgb(value))
-        options[f"hue:{path}"] = hue  # remembered while the level is 0
+        options[_hue_key(path)] = hue  # remembered while the level is 0
         return scene.replace(path, [level * c for c in hue]), options
 
     return [
@@ -132,7 +157,7 @@ def _shininess(group: str) -> Control:
         return math.log10(max(scene.material.shininess, 1e-300))
 
     def write(scene, value, options):
-        return scene.replace("material.shininess", round(10.0**value, 6)), options
+        return scene.replace("material.shininess", slider_alpha(value)), options
 
     low, high = SHININESS_LOG_RANGE
     return Control(path="material.shininess.log", label=r"shininess $\alpha$", kind="slider", read=read, write=write,
@@ -280,7 +305,7 @@ def scene_controls(scene, frame: Frame | None = None, *, read_field=field_value)
     """
     frame = frame or Frame.of_camera(scene.camera)
     controls = []
-    for name, symbol in (("ka", "k_a"), ("kd", "k_d"), ("ks", "k_s")):
+    for name, symbol in COEFFICIENTS:
         controls += _coefficient(name, symbol, "Material")
     controls.append(_shininess("Material"))
     # Cook–Torrance's lobe: roughness (α_GGX = roughness²) and how metallic the surface is
@@ -325,6 +350,12 @@ def _display_controls(read_field) -> list[Control]:
     ]
 
 
+def cone_switch(path: str) -> str | None:
+    """The "no cone" switch that goes with the spot cutoff slider ``path`` (``lights[1].cutoff``), else None."""
+    m = re.fullmatch(r"(lights\[\d+\])\.cutoff", path)
+    return f"{m.group(1)}.no_cone" if m else None
+
+
 def widgets_for(path: str) -> tuple[str, ...]:
     """The control paths a lesson's ``controls`` entry stands for.
 
@@ -345,9 +376,9 @@ def widgets_for(path: str) -> tuple[str, ...]:
         return tuple(f"{m.group(1)}.{p}" for p in ("type", "azimuth", "elevation", "distance"))
     if path == "camera.eye":
         return ("camera.azimuth", "camera.elevation", "camera.distance")
-    m = re.fullmatch(r"(lights\[\d+\])\.cutoff", path)
-    if m:
-        return (path, f"{m.group(1)}.no_cone")
+    cone = cone_switch(path)
+    if cone:
+        return (path, cone)
     m = re.fullmatch(r"(lights\[\d+\])\.attenuation", path)
     if m:
         return tuple(f"{m.group(1)}.attenuation[{i}]" for i in range(3))
@@ -416,6 +447,23 @@ MISTAKE_SWITCH = _view_switch("view.mistake", "show the mistake", "mistake")
 COMPARE_SWITCH = _view_switch("view.compare", "Phong beside Cook–Torrance", "compare")
 
 
+#: a control that reads the view options, not the scene: read again for every scene
+_OPTIONS = frozenset(("view options",))
+
+
+def fields_read(path: str) -> frozenset:
+    """The scene's top-level fields a control at ``path`` reads its value from.
+
+    A field's own (``material.ks.level`` reads ``material``); a light's place
+    is measured around the camera's focal point, so a light's controls read
+    ``camera`` too; a view option (``view.term``) reads no scene field.
+    """
+    top = re.match(r"[A-Za-z_]*", path).group(0)
+    if top == "view":
+        return _OPTIONS
+    return frozenset(("lights", "camera")) if top == "lights" else frozenset((top,))
+
+
 def controls_shape(scene) -> tuple:
     """What decides which controls a scene gets: its light types and whether its shape is parametric."""
     return tuple(_light_kind(light) for light in scene.lights), scene.geometry.kind in PARAMETRIC_KINDS
@@ -446,7 +494,10 @@ class ControlSet:
     Notes
     -----
     Reading the widgets of a scene reads many fields of its file form; the set
-    makes that form once per scene (and only for this tab).
+    makes that form once per scene (and only for this tab). A new scene whose
+    view options are unchanged has only the controls of the fields that
+    changed (:meth:`Scene.changes`, :func:`fields_read`) read again: a
+    shininess slider reads one control, not a hundred.
     """
 
     def __init__(self, frame: Frame, lesson_paths=(), extra: dict | None = None):
@@ -458,6 +509,8 @@ class ControlSet:
         self.by_key: dict = dict(self.extra)
         self._shape = None
         self._form = (None, None)  # (scene, its file form)
+        self._read = None  # (scene, view options, values) of the last values()
+        self._readers: dict = {}  # changed fields -> the keys whose controls read them (or read the options)
 
     def update(self, scene) -> bool:
         """Make the set fit ``scene``; True when it was (re)built, False when it already fitted."""
@@ -469,11 +522,38 @@ class ControlSet:
         self.by_key = controls_by_key(scene, read_field=self.read_field, widgets=self.widgets)
         self.by_key.update(self.extra)
         self._shape = shape
+        self._read = None
+        self._readers = {}
         return True
 
     def values(self, scene, options: dict) -> dict:
-        """State key -> widget value of every control for ``scene``."""
-        return {key: control.read(scene, options) for key, control in self.by_key.items()}
+        """State key -> widget value of every control for ``scene`` (a new dict)."""
+        last = self._read
+        if last is None or last[1] != options or last[2].keys() != self.by_key.keys():
+            values = {key: control.read(scene, options) for key, control in self.by_key.items()}
+        else:
+            # the same options: what the scene's changed fields feed is all that can differ
+            changed = Scene.changes(last[0], scene).fields if last[0] is not scene else frozenset()
+            values = dict(last[2])
+            for key in self._reading(changed):
+                values[key] = self.by_key[key].read(scene, options)
+        self._read = (scene, dict(options), values)
+        return dict(values)
+
+    def _reading(self, changed: frozenset) -> tuple:
+        """The keys whose controls read any of the ``changed`` fields, or the view options."""
+        keys = self._readers.get(changed)
+        if keys is None:
+            keys = self._readers[changed] = tuple(
+                key for key, control in self.by_key.items()
+                if (fields := fields_read(control.path)) is _OPTIONS or not fields.isdisjoint(changed))
+        return keys
+
+    def file_form(self, scene) -> dict:
+        """:func:`~phonglab.scene.scene_to_dict` of ``scene``, made once for the last scene asked (do not change it)."""
+        if self._form[0] is not scene:
+            self._form = (scene, scene_to_dict(scene))
+        return self._form[1]
 
     def read_field(self, scene, path: str):
         """The value at ``path`` in the scene's file form, as :func:`phonglab.scene.field_value`.
@@ -482,9 +562,7 @@ class ControlSet:
         form of the last scene read; anything else goes to the scene layer,
         which also produces its errors.
         """
-        if self._form[0] is not scene:
-            self._form = (scene, scene_to_dict(scene))
-        node = self._form[1]
+        node = self.file_form(scene)
         try:
             for part in parse_path(path):
                 node = node[part]

@@ -13,13 +13,21 @@ decimals, any other value with 3, a value of 10⁴ or more as ``d.ddd × 10^k``;
 an RGB triple whose channels read the same as one number; a whole number (an
 integer exponent, the 0 of ``max(0, ·)``) is exact; α with 2 decimals unless
 it is a whole number.
+
+:func:`as_mathml` typesets a worked row: the row's shape (its LaTeX with
+every number replaced by one digit) is converted to MathML once, and each
+new set of numbers is put into that MathML's number elements.
 """
 
 from __future__ import annotations
 
+import functools
 import math
+import re
 
 import numpy as np
+
+from phonglab.app.text import mathml
 
 #: how each recorded name is written in the lesson's symbols (others: as they are, or as text)
 SYMBOLS = {
@@ -95,8 +103,30 @@ def _sqrt(formula) -> bool:
         and float(formula[2]) == 0.5
 
 
+def _root(inside: str, operand) -> str:
+    """``√inside``; a sum inside brackets too, so that where a font draws no bar over it (no maths
+    font), where the root ends is still plain: √((n·v)²(1 − α²) + α²), not √(n·v)²(1 − α²) + α²."""
+    return rf"\sqrt{{\left({inside}\right)}}" if _sum(operand) else rf"\sqrt{{{inside}}}"
+
+
 def symbols(formula) -> str:
-    """``formula`` in the lesson's symbols (a gate is written as what it guards)."""
+    """``formula`` in the lesson's symbols (a gate is written as what it guards).
+
+    A formula is written the same way every time: remembered (a slider's
+    step changes the numbers of a worked row, not its symbols).
+    """
+    try:
+        return _remembered_symbols(formula)
+    except TypeError:  # something unhashable in it
+        return _symbols(formula)
+
+
+@functools.lru_cache(maxsize=4096)
+def _remembered_symbols(formula) -> str:
+    return _symbols(formula)
+
+
+def _symbols(formula) -> str:
     if isinstance(formula, str):
         return symbol(formula)
     if not isinstance(formula, tuple):
@@ -115,7 +145,7 @@ def symbols(formula) -> str:
         right = rf"\left({symbols(operands[1])}\right)" if _sum(operands[1]) else symbols(operands[1])
         return f"{symbols(operands[0])} - {right}"
     if _sqrt(formula):
-        return rf"\sqrt{{{symbols(operands[0])}}}"
+        return _root(symbols(operands[0]), operands[0])
     if operator == "div":
         return rf"\frac{{{symbols(operands[0])}}}{{{symbols(operands[1])}}}"
     if operator == "max0":
@@ -143,7 +173,7 @@ def numbers(formula, lookup) -> str:
     if operator == "if":  # a gate left in: written as what it guards
         return numbers(operands[1], lookup)
     if _sqrt(formula):
-        return rf"\sqrt{{{numbers(operands[0], lookup)}}}"
+        return _root(numbers(operands[0], lookup), operands[0])
     parts = [numbers(x, lookup) for x in operands]
     if operator in ("mul", "add", "sub"):
         # a negative factor or addend in brackets: "1.000 · (−0.300)"; a sum inside a product or after a minus
@@ -158,3 +188,43 @@ def numbers(formula, lookup) -> str:
     base, power = parts
     leaf = isinstance(operands[0], str) and not _negative(base) and r"\left(" not in base and "\\" not in base
     return _power(base, power, plain=leaf, grouped=isinstance(operands[0], tuple) and operands[0][0] == "max0")
+
+
+#: a number of a row's LaTeX (its digits; a sign is an operator) or a piece of text, whose digits are words
+_NUMBER_OR_TEXT = re.compile(r"\\text\{[^{}]*\}|\d+(?:\.\d+)?")
+#: what stands for every number in a row's shape
+_SLOT = "7"
+_SLOT_MATHML = f"<mn>{_SLOT}</mn>"
+
+
+@functools.lru_cache(maxsize=1024)
+def _shape_pieces(shape: str) -> tuple[str, ...]:
+    """The MathML of a row's shape cut at its number elements."""
+    return tuple(mathml(shape).split(_SLOT_MATHML))
+
+
+def as_mathml(tex: str) -> str:
+    """A worked row's LaTeX as MathML: the same markup as :func:`phonglab.app.text.mathml` gives.
+
+    A slider's every step gives a row new numbers in the same formula; the
+    formula's MathML is made once (for its shape, every number a ``7``) and
+    the numbers are put into its ``<mn>`` elements, each a number's own
+    element. A shape whose MathML does not hold one such element per number
+    is converted whole instead.
+    """
+    found = []
+
+    def slot(match: re.Match) -> str:
+        if match.group(0).startswith("\\"):
+            return match.group(0)  # \text{light 1}: words, not a number
+        found.append(match.group(0))
+        return _SLOT
+
+    pieces = _shape_pieces(_NUMBER_OR_TEXT.sub(slot, tex))
+    if len(pieces) != len(found) + 1:
+        return mathml(tex)
+    out = [pieces[0]]
+    for number_text, piece in zip(found, pieces[1:]):
+        out.append(f"<mn>{number_text}</mn>")
+        out.append(piece)
+    return "".join(out)

@@ -36,7 +36,8 @@ from phonglab.app import check_question, student_code
 from phonglab.app.client import ArrowLetters, ColorPush
 from phonglab.app.control import Control
 from phonglab.app.controls import MODELS as MODEL_NAMES
-from phonglab.app.controls import TERMS
+from phonglab.app.controls import TERMS, cone_switch
+from phonglab.app.keys import state_key
 from phonglab.app import truth_ui
 from phonglab.app.slider_access import slider_attributes
 from phonglab.app.wording import spoken_label
@@ -449,7 +450,7 @@ class _Page:
                               data_term=("t.name",), __properties=[("data_term", "data-term")])
             truth_ui.mistaken_terms()
             html.Div(v_html=("readout.equation",), classes="phonglab-equation")
-            html.Div("{{ n }}", v_for="(n, i) in readout.notes", key="i", classes="phonglab-note")
+            html.Div(v_html=("n",), v_for="(n, i) in readout.notes_html", key="i", classes="phonglab-note")
             truth_ui.display_note()
 
     def _control_column(self):
@@ -460,12 +461,12 @@ class _Page:
                 with html.Div(v_for="p in plan_computed", key="p.effect", classes="phonglab-plan-row"):
                     v3.VIcon("mdi-check-circle", color="success", size="small")
                     html.B("{{ p.effect }}")
-                    html.Span("{{ p.reason }}", classes="phonglab-plan-reason")
+                    html.Span(v_html=("p.html",), classes="phonglab-plan-reason")  # escaped, subscripts set
                 with html.Div(v_for="p in plan_skipped", key="p.effect",
                               classes="phonglab-plan-row phonglab-plan-skipped"):
                     v3.VIcon("mdi-minus-circle-outline", color="grey", size="small")
                     html.B("{{ p.effect }}")
-                    html.Span("{{ p.reason }}", classes="phonglab-plan-reason")
+                    html.Span(v_html=("p.html",), classes="phonglab-plan-reason")
 
 
 def build_controls(server, chosen, all_controls=()) -> None:
@@ -512,13 +513,20 @@ def _widget(control: Control, suffix: str = "") -> None:
     if control.kind == "slider":
         # a slider of one model's (shininess: Phong's; roughness: Cook–Torrance's) is greyed under another
         unused = f"!{json.dumps(list(control.models))}.includes(model)".replace('"', "'") if control.models else None
-        with html.Div(classes=css, style=(f"{unused} ? 'opacity: 0.6' : ''",) if unused else None):
+        # a spot's cutoff slider (1–90°) is greyed while its "no cone" switch holds the cutoff at 180°
+        switch = cone_switch(control.path)
+        cone = state_key(switch) if switch else None
+        dim = " || ".join(f"({c})" for c in (unused, cone) if c)
+        with html.Div(classes=css, style=(f"{dim} ? 'opacity: 0.6' : ''",) if dim else None):
             with html.Div(classes="phonglab-control-head"):
                 html.Span(v_html=(label,), classes="phonglab-label")
                 if unused:
                     names = " and ".join(dict(MODEL_NAMES).get(m, m) for m in control.models)
                     html.Span(f"used by {names} only", v_if=unused, classes="phonglab-note phonglab-model-note")
-                html.Span(f"{{{{ control_values['{key}'] }}}}", classes="phonglab-mono phonglab-value")
+                shown = f"control_values['{key}']"
+                if cone:
+                    shown = f"({cone} ? '180° (no cone)' : {shown})"
+                html.Span(f"{{{{ {shown} }}}}", classes="phonglab-mono phonglab-value")
             v3.VSlider(
                 v_model=(key,),
                 min=control.low,

@@ -31,6 +31,7 @@ import numpy as np
 
 from phonglab.app import equation
 from phonglab.app.text import mathml
+from phonglab.app.wording import symbols_html
 from phonglab.core.display import display_bytes
 from phonglab.core.record import names_in, resolve
 from phonglab.render import shadows
@@ -65,8 +66,32 @@ def _rgb_text(rgb) -> str:
 
 def swatch_hex(scene, rgb) -> str:
     """A linear colour as the ``#rrggbb`` the display shows (the scene's display encoding and exposure)."""
-    values = display_bytes(np.asarray(rgb, dtype=np.float64), encoding=scene.display, exposure=scene.exposure)
-    return "#" + "".join(f"{int(c):02x}" for c in values)
+    return _hexes(scene, [rgb])[0]
+
+
+def _hexes(scene, colours) -> list[str]:
+    """:func:`swatch_hex` of each linear colour, encoded together in one call."""
+    rows = display_bytes(np.asarray(colours, dtype=np.float64).reshape(-1, 3), encoding=scene.display,
+                         exposure=scene.exposure)
+    return ["#%02x%02x%02x" % tuple(int(c) for c in row) for row in rows]
+
+
+class _Swatches:
+    """The readout's colour swatches: asked for one by one, encoded together (:meth:`paint`)."""
+
+    def __init__(self, scene):
+        self.scene = scene
+        self._wanted: list[tuple[dict, str, object]] = []
+
+    def put(self, target: dict, key: str, rgb) -> None:
+        """``target[key]`` will be the swatch of ``rgb`` (its place in ``target`` kept)."""
+        target[key] = None
+        self._wanted.append((target, key, rgb))
+
+    def paint(self) -> None:
+        if self._wanted:
+            for (target, key, _), text in zip(self._wanted, _hexes(self.scene, [rgb for _, _, rgb in self._wanted])):
+                target[key] = text
 
 
 def _differs(a, b) -> bool:
@@ -173,7 +198,8 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
         mistake changes the term), ``equation`` (HTML: one row per worked
         formula, each ``symbols = numbers = value``), ``notes`` (list of
         str; in flat and Gouraud mode the last one says the numbers are exact
-        at the probe while the picture is not, :data:`INTERPOLATION_NOTES`),
+        at the probe while the picture is not, :data:`INTERPOLATION_NOTES`;
+        ``notes_html`` the same as the page shows them, :func:`~phonglab.app.wording.symbols_html`),
         ``vectors`` (letter -> "(x, y, z)"), ``display_note``, and
         ``mistake`` (None or {name, title, wrong, right}), ``light_name``
         (``"light 1"`` when the scene has more than one light, else None) and
@@ -221,16 +247,19 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
 
         m = get_mistake(mistake)
         out["mistake"] = {"name": m.name, "title": m.title, "wrong": m.wrong, "right": m.right}
+    swatches = _Swatches(scene)
     for name in ("ambient", "diffuse", "specular", "emission", "color"):
         rgb = getattr(total, name)[0]
         if name == "emission" and not any(rgb):
             continue
-        term = {"name": "total" if name == "color" else name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)}
+        term = {"name": "total" if name == "color" else name, "value": _rgb_text(rgb)}
+        swatches.put(term, "hex", rgb)
         right_rgb = getattr(correct, name)[0]
         if mistake is not None and _differs(rgb, right_rgb):
             # the correct value next to the mistaken one, with the line of code that differs
-            term.update(correct=_rgb_text(right_rgb), correct_hex=swatch_hex(scene, right_rgb),
-                        wrong=out["mistake"]["wrong"], right=out["mistake"]["right"])
+            term["correct"] = _rgb_text(right_rgb)
+            swatches.put(term, "correct_hex", right_rgb)
+            term.update(wrong=out["mistake"]["wrong"], right=out["mistake"]["right"])
         out["terms"].append(term)
 
     recorded = [lr.index for lr in record.lights]
@@ -251,11 +280,15 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
             for dot in out["dots"]:
                 term = beside.get(dot["name"])
                 if term is not None:
-                    dot["term"] = {"name": term, "value": _rgb_text(shown[term]), "hex": swatch_hex(scene, shown[term])}
+                    dot["term"] = {"name": term, "value": _rgb_text(shown[term])}
+                    swatches.put(dot["term"], "hex", shown[term])
     rows, parts = _rows(record, total.color[0], shown, several)
-    out["parts"] = [{"name": name, "value": _rgb_text(rgb), "hex": swatch_hex(scene, rgb)} for name, rgb in parts]
+    out["parts"] = [{"name": name, "value": _rgb_text(rgb)} for name, rgb in parts]
+    for part, (_, rgb) in zip(out["parts"], parts):
+        swatches.put(part, "hex", rgb)
+    swatches.paint()
     out["equation"] = "".join(
-        f'<div class="eq-row"><span class="eq-label">{label}</span>{mathml(tex)}</div>' for label, tex in rows
+        f'<div class="eq-row"><span class="eq-label">{label}</span>{equation.as_mathml(tex)}</div>' for label, tex in rows
     )
     if several and shown is not None:
         out["equation"] = (f'<div class="phonglab-eq-head">Worked for {out["light_name"]} (its vectors are drawn) '
@@ -266,6 +299,7 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
     out["notes"][:0] = [line["text"] for line in out["shadows"]] + (
         [f"The probe is on the {objects[obj].label}: its material's k_a, k_d, k_s and α are used."]
         if len(objects) > 1 else [])
+    out["notes_html"] = [symbols_html(note) for note in out["notes"]]  # what the page shows: k_a with its subscript
     return out
 
 
@@ -322,6 +356,10 @@ def _notes(scene, right, record, shown, out, mistake) -> list[str]:
                          + (f"{its}diffuse and specular are 0." if mistake is None else
                             f"correct code gives {its}diffuse and specular 0; the mistaken code gives diffuse "
                             f"{_rgb_text(shown['diffuse'])} and specular {_rgb_text(shown['specular'])}."))
+        if scene.model == "cook-torrance" and float(right["n·v"]) <= 0:
+            # its D and V rows then read "= 0": say why, in words
+            notes.append("n·v ≤ 0: the eye is below the surface here, and Cook–Torrance is one-sided, so D, V and "
+                         "the light the point sends to the eye are 0.")
         if float(shown["f"]) != 1.0:
             factors = []
             if "d" in shown.values:

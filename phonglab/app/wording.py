@@ -21,6 +21,7 @@ words by :func:`plain_rule`.
 
 from __future__ import annotations
 
+import html
 import re
 
 from phonglab.scene.errors import printable
@@ -278,3 +279,16 @@ def address_notice(problems) -> str:
     """The sentences of one address's problems as the page's one-line notice."""
     without = "without it" if len(problems) == 1 else "without them"
     return " ".join(problems) + f" The lesson opened {without}; the rest of the address applies."
+
+
+#: a symbol with a one-letter subscript as plain text writes it (k_a, I_d, f_l): letter, underscore, letter
+_SUBSCRIPTED = re.compile(r"(?<![\w])([A-Za-z])_([a-z])(?![\w])")
+
+
+def symbols_html(text: str) -> str:
+    """Plain text from the core or the planner as HTML with its symbols' subscripts set: ``k_a`` as k<sub>a</sub>.
+
+    The text is escaped first; only the subscripts are markup. A sentence a
+    student reads then shows the symbols as the formulas beside it do.
+    """
+    return _SUBSCRIPTED.sub(r"<i>\1</i><sub>\2</sub>", html.escape(str(text), quote=False))

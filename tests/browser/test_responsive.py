@@ -214,3 +214,20 @@ def test_notice_does_not_push_the_controls_down(tab, lessons_server):
     assert notice["x"] >= 0 and notice["x"] + notice["width"] <= 1366, f"the notice {text!r} is outside the window: {notice}"
     found = tab.evaluate(MEASURE, {"notice": TEXT_BOXES["notice"]})
     assert not found, f"04-specular at 1366x768 with the notice {text!r}:\n" + "\n".join(found)
+
+
+def test_an_experiment_applied_in_one_column_brings_the_view_into_sight(tab, lessons_server):
+    """At 800x900 the text comes last, far below the view: Apply there changed a view out of sight."""
+    tab.set_viewport_size({"width": 800, "height": 900})
+    # (not lesson 4: the tab may be there already, and the same address asked twice is no change of state)
+    open_by_address(tab, lessons_server, "07-light-sources")
+    apply = tab.locator(".phonglab-apply").first
+    apply.scroll_into_view_if_needed()
+    seen = "(s) => { const b = document.querySelector(s).getBoundingClientRect(); return b.bottom > 80 && b.top < innerHeight - 80; }"
+    assert not tab.evaluate(seen, ".phonglab-view"), "the view should be out of sight from the experiment"
+    apply.click()
+    tab.wait_for_selector(".phonglab-notice", timeout=20_000)
+    tab.wait_for_function(seen, arg=".phonglab-view", timeout=30_000)
+    view = tab.locator(".phonglab-view").bounding_box()
+    assert view["y"] >= 40, f"the view is under the page's bar: {view}"
+    assert tab.evaluate(seen, ".phonglab-notice"), "the notice over the view's foot should be in sight"

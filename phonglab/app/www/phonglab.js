@@ -558,3 +558,16 @@ const VIEW_NAME = "The scene in 3D: drag to turn it, the wheel zooms, a click mo
   }
   subscribe();
 })();
+
+// In one column (a narrow window: the view first, the lesson's text last), an experiment applied
+// from the text would change a view scrolled far out of sight: the page scrolls the view (and the
+// notice over its foot) into sight, so the student sees what the experiment did.
+(function () {
+  const oneColumn = window.matchMedia("(max-width: 900px)");
+  document.addEventListener("click", (event) => {
+    if (!oneColumn.matches || !(event.target.closest && event.target.closest(".phonglab-apply"))) return;
+    const view = document.querySelector(".phonglab-view");
+    const box = view && view.getBoundingClientRect();
+    if (box && (box.bottom < 80 || box.top > window.innerHeight - 80)) view.scrollIntoView({ block: "start" });
+  });
+})();
