@@ -7,7 +7,8 @@ Jupyter support does (``exec_mode="task"``); the cell shows the page in an
 iframe. Each call makes a new, independent view. The returned
 :class:`LessonView` holds the scene: ``view.scene`` is what the page shows
 and ``view.replace("lights[1].position", [0, 3, 3])`` changes it, on the page
-too; ``view.figure()`` displays the same scene as an inline figure.
+too; ``view.figure()`` displays the same scene as an inline figure. The cell
+shows the iframe once the server listens (``await view.ready`` waits for it).
 
 The iframe's address comes from trame's own iframe builders: in a plain
 Jupyter server it is ``http://localhost:PORT/``; inside JupyterHub
@@ -137,9 +138,48 @@ class LessonView:
         )
         return get_iframe_builder("default")(layout)
 
+    @property
+    def ready(self):
+        """Resolves once the view's server listens: ``await view.ready`` in a cell, as trame's layouts do."""
+        return self.app.server.ready
+
     def _repr_html_(self) -> str:
         attributes = " ".join(f'{key}="{value}"' for key, value in self._iframe().items())
         return f"<iframe {attributes}></iframe>"
+
+    def _ipython_display_(self) -> None:
+        """The cell's iframe, once the server listens.
+
+        The server is a task of the kernel's loop, so it starts only after the
+        cell that made it returns; an iframe shown at once may ask a port that
+        does not listen yet (a loaded machine) and stay blank. Until the server
+        is ready the cell says it is starting, then the same output becomes the iframe.
+        """
+        import asyncio
+        import html
+
+        from IPython.display import HTML, display
+
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:
+            loop = None
+        if self.app.server.running or loop is None:
+            display(HTML(self._repr_html_()))
+            return
+        handle = display(HTML(f'<div class="phonglab-starting">Starting the lesson view '
+                              f'({html.escape(self.app.entry.title if self.app.entry else "")})…</div>'),
+                         display_id=True)
+
+        async def swap():
+            try:
+                await self.app.server.ready
+            except Exception as exc:  # the server did not start: say so in the cell
+                handle.update(HTML(f"<div>The lesson view could not start: {html.escape(str(exc))}</div>"))
+                return
+            handle.update(HTML(self._repr_html_()))
+
+        self._swap = loop.create_task(swap())  # kept: a task nobody holds may be collected
 
     def __repr__(self) -> str:
         return f"<phonglab LessonView {self.app.entry.title if self.app.entry else ''!r} at {self.url}>"
