@@ -11,6 +11,7 @@ it is missing the tests fail (they never skip) and say how to install it.
 
 from __future__ import annotations
 
+import concurrent.futures
 import contextlib
 import os
 from pathlib import Path
@@ -22,7 +23,7 @@ from phonglab.bench.scenes import write_lessons
 from phonglab.bench.ui import (
     CHROMIUM,
     CHROMIUM_MISSING,
-    MEASURE_JS,
+    LAZY_MEASURE_JS,
     launch_chromium,
     log_tail,
     stop_server,
@@ -61,8 +62,9 @@ def serve_app(tmp_path_factory):
         return started[key]
 
     yield serve
-    for running in started.values():
-        stop_server(running["process"])
+    # all at once: each may take seconds to close its sessions, and the last test's teardown waits for them
+    with concurrent.futures.ThreadPoolExecutor(max(1, len(started))) as pool:
+        list(pool.map(stop_server, [running["process"] for running in started.values()]))
 
 
 @pytest.fixture(scope="session")
@@ -81,6 +83,7 @@ def browser():
     with sync_playwright() as playwright:
         chromium = launch_chromium(playwright)
         yield chromium
+        _CONTEXTS.pop(id(chromium), None)
         chromium.close()
 
 
@@ -100,7 +103,7 @@ class Page:
             self.external.append(request.url)
 
     def open(self):
-        self.page.add_init_script(MEASURE_JS)
+        self.page.add_init_script(LAZY_MEASURE_JS)
         self.page.goto(self.server["url"])
         self.page.wait_for_selector(".phonglab-view canvas", timeout=60_000)
         self.page.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
@@ -108,10 +111,14 @@ class Page:
         return self
 
     def wait_settled(self, frames: int = 10):
-        """Wait until the view has drawn something and stopped changing."""
+        """Wait until the view has drawn something, and for ``frames`` frames neither changed nor heard the server.
+
+        A view that has not changed for a while may still be waiting for the server's next update (a lesson's
+        mesh on a loaded machine): a settled view is also one the server has said nothing to for as long.
+        """
         self.page.wait_for_function(
-            f"() => {{ const b = window.__phonglabBench; return b.last !== 0 && b.stable >= {frames}; }}",
-            timeout=30_000,
+            "(n) => { const b = window.__phonglabBench; return b.last !== 0 && b.stable >= n && b.quiet >= n; }",
+            arg=frames, timeout=30_000,
         )
 
     def pixel_hash(self) -> int:
@@ -165,7 +172,7 @@ class Page:
             "(t) => { const e = document.querySelector('.phonglab-lesson-title'); return e && e.innerText.endsWith(t); }",
             arg=title, timeout=30_000,
         )
-        self.page.wait_for_function("() => window.trame.state.get('drawer') === false", timeout=10_000)
+        self.page.wait_for_function("() => window.trame.state.get('drawer') === false", timeout=60_000)
         self.wait_settled()
         return self
 
@@ -177,22 +184,37 @@ class Page:
         self.page.close()
 
 
+#: one browser context a worker, which the tabs share as a student's tabs share one browser: its cache keeps
+#: the page's 3 MB of scripts compiled (a tab then costs Chromium about half the CPU time of a tab in a
+#: context of its own). A session is a tab's own websocket, so tabs in one context are separate sessions.
+_CONTEXTS: dict[int, object] = {}
+
+
+def new_page(browser, *, width: int = 1280, height: int = 800):
+    """A new Playwright page (a tab, its own session) of ``browser``'s shared context, at ``width`` × ``height``."""
+    context = _CONTEXTS.get(id(browser))
+    if context is None:
+        context = _CONTEXTS[id(browser)] = browser.new_context(viewport={"width": 1280, "height": 800})
+    page = context.new_page()
+    page.set_viewport_size({"width": width, "height": height})
+    return page
+
+
 @contextlib.contextmanager
 def open_tab(browser, server, *, width: int = 1280, height: int = 800):
-    """A fresh tab on ``server`` (its own browser context, so its own session), opened.
+    """A fresh tab on ``server`` (its own session), opened.
 
     On leaving the block without an error, it fails on JavaScript errors, requests
     to the internet or a server that died (with the end of the server's log).
     """
-    context = browser.new_context(viewport={"width": width, "height": height})
-    page = Page(context.new_page(), server)
+    page = Page(new_page(browser, width=width, height=height), server)
     try:
         yield page.open()
         assert not page.errors, f"JavaScript errors on the page: {page.errors}"
         assert not page.external, f"the page asked the internet for: {page.external}"
         assert server["process"].poll() is None, f"the server died:\n{log_tail(server['log'])}"
     finally:
-        context.close()
+        page.close()
 
 
 @pytest.fixture
@@ -204,17 +226,16 @@ def app_page(browser, server):
 
 @pytest.fixture
 def new_tab(browser, server):
-    """A factory for more tabs, each in its own browser context (own session)."""
-    contexts = []
+    """A factory for more tabs, each its own session."""
+    pages = []
 
     def make():
-        context = browser.new_context(viewport={"width": 1280, "height": 800})
-        contexts.append(context)
-        return Page(context.new_page(), server).open()
+        pages.append(Page(new_page(browser), server))
+        return pages[-1].open()
 
     yield make
-    for context in contexts:
-        context.close()
+    for page in pages:
+        page.close()
 
 
 def pytest_collection_modifyitems(items):

@@ -1,7 +1,7 @@
 """Tabs on the real lessons (``lessons/``), for the browser tests that look at them as a student does.
 
-:func:`lesson_tab` is a tab in its own browser context (its own server session) on ``phonglab serve
-lessons/``, with the page's pixels readable (:data:`~phonglab.bench.ui.MEASURE_JS`); :func:`visit` opens
+:func:`lesson_tab` is a tab (its own server session) on ``phonglab serve
+lessons/``, with the page's pixels readable (:data:`~phonglab.bench.ui.LAZY_MEASURE_JS`); :func:`visit` opens
 an address in it and waits until the view has drawn and stopped changing.
 """
 
@@ -10,9 +10,9 @@ from __future__ import annotations
 import contextlib
 from pathlib import Path
 
-from conftest import Page
+from conftest import Page, new_page
 
-from phonglab.bench.ui import MEASURE_JS
+from phonglab.bench.ui import LAZY_MEASURE_JS
 
 LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 
@@ -20,14 +20,13 @@ LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 @contextlib.contextmanager
 def lesson_tab(browser, serve_app, width: int = 1280, height: int = 800):
     """A tab (:class:`conftest.Page`) on the real lessons' server; on leaving, it fails on JavaScript errors."""
-    context = browser.new_context(viewport={"width": width, "height": height})
-    tab = Page(context.new_page(), serve_app(LESSONS))
-    tab.page.add_init_script(MEASURE_JS)
+    tab = Page(new_page(browser, width=width, height=height), serve_app(LESSONS))
+    tab.page.add_init_script(LAZY_MEASURE_JS)
     try:
         yield tab
         assert not tab.errors, f"JavaScript errors on the page: {tab.errors}"
     finally:
-        context.close()
+        tab.close()
 
 
 def visit(tab, query: str) -> None:

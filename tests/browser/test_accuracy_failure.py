@@ -14,7 +14,7 @@ from conftest import Page
 from real_lessons import LESSONS, drawn
 from waiting import wait_for
 
-from phonglab.bench.ui import MEASURE_JS, free_port, log_tail, start_server, stop_server, wait_until_serving
+from phonglab.bench.ui import LAZY_MEASURE_JS, free_port, log_tail, start_server, stop_server, wait_until_serving
 
 #: ``phonglab serve`` whose accuracy studies never finish, given up after 3 s
 NEVER = """
@@ -44,7 +44,7 @@ def stuck_server(tmp_path_factory):
 def test_a_study_that_cannot_finish_is_told_in_words_with_try_again(browser, stuck_server):
     context = browser.new_context(viewport={"width": 1280, "height": 800})
     tab = Page(context.new_page(), stuck_server)
-    tab.page.add_init_script(MEASURE_JS)
+    tab.page.add_init_script(LAZY_MEASURE_JS)
     try:
         tab.page.goto(stuck_server["url"] + "?lesson=11-accuracy")
         drawn(tab)

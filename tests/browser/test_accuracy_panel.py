@@ -27,6 +27,33 @@ def shown(app_page) -> dict:
     )
 
 
+@pytest.fixture(scope="module")
+def server(serve_app, lesson_dir, export_dir):
+    """This module's own server (the default session limit, written out, keys it apart from the shared one).
+
+    The plot is measured once a server process, and the first test here watches it being measured: on the
+    shared server, any earlier tab on the accuracy lesson would have measured it already.
+    """
+    return serve_app(lesson_dir, "--export-dir", export_dir, "--max-sessions", "60")
+
+
+#: every animation frame from now on, until the plot is ready: each status the plot has in the page's state, in
+#: turn, and whether the panel showed its "measuring" line in any frame of it
+SEEN_JS = """() => {
+  const seen = (window.__accuracySeen = []);
+  function frame() {
+    const plot = window.trame.state.get('accuracy_plot');
+    const line = document.querySelector('.phonglab-accuracy-measuring');
+    const status = plot ? plot.status : null;
+    const shown = !!(line && line.offsetParent !== null);
+    if (status && (!seen.length || seen[seen.length - 1].status !== status)) seen.push({ status, shown });
+    else if (status) seen[seen.length - 1].shown ||= shown;
+    if (status !== 'ready') requestAnimationFrame(frame);
+  }
+  requestAnimationFrame(frame);
+}"""
+
+
 def number(text: str) -> float:
     return float(text.replace(" ms", ""))
 
@@ -35,15 +62,19 @@ def test_accuracy_lesson_shows_the_plot_and_the_picked_error_images(app_page, ne
     page = app_page.page
     other = new_tab()
     assert not page.locator(".phonglab-accuracy").count(), "the accuracy panel shows on lesson 1"
+    page.evaluate(SEEN_JS)
     app_page.open_lesson("Accuracy costs time")
-    assert app_page.state("accuracy_plot")["status"] == "measuring"
-    assert page.locator(".phonglab-accuracy-measuring").is_visible()
-    # while the plot is measured, another tab still gets its updates
+    # what the page showed while it opened, frame by frame (on a loaded machine the plot may be ready by the
+    # time the lesson has settled; that another tab stays responsive while it is measured is pinned with a
+    # controlled measurement in tests/test_app_offload.py)
+    seen = page.evaluate("() => window.__accuracySeen")
+    measuring = [f for f in seen if f["status"] == "measuring"]
+    assert measuring and all(f["shown"] for f in measuring), f"the page never said it was measuring: {seen[:5]}"
+    assert seen.index(measuring[0]) < next((i for i, f in enumerate(seen) if f["status"] == "ready"), len(seen)), seen
+    # while the server has a study of one tab, another tab still gets its updates
     before = other.readout()
     other.set_state("lights_1__azimuth", "-40")
     wait_for(lambda: other.readout()["dots"] != before["dots"], "the other tab's vectors to follow its light")
-    assert app_page.state("accuracy_plot")["status"] == "measuring", (
-        "the plot was ready before another tab's light moved: was the server busy with it?")
     # the first pick follows the lesson's scene: Gouraud on 16 segments
     first = wait_for(lambda: (s := shown(app_page))["error"].startswith("data:image/png") and s, "the error images",
                      timeout=90)  # computed in worker processes, which a loaded machine starts slowly

@@ -3,10 +3,11 @@ address bar carries exactly the view on screen after every experiment of every l
 
 That the query of a view reopens the same view (readout to the last digit, picture pixel for pixel) is
 checked for every experiment without a browser, through the same code the page runs
-(``tests/test_app_address_scenes.py``). Here one tab applies every experiment of every lesson and its
-address bar must hold that query, at once (not a step behind); a few of those addresses are then opened
-in a fresh tab and compared with the tab they came from, on screen. This test costs about 2 minutes on
-2 loaded cores: one server, one tab through the 12 lessons, 5 fresh tabs.
+(``tests/test_app_address_scenes.py``). Here a tab applies every experiment of a lesson, for every lesson,
+and its address bar must hold that query, at once (not a step behind); a few of those addresses are then
+opened in a fresh tab and compared with the tab they came from, on screen. All lessons together cost about
+2 minutes on 2 loaded cores (one server a worker, a tab a lesson, 5 fresh tabs); a test a lesson lets the
+workers share them.
 """
 
 from __future__ import annotations
@@ -106,20 +107,21 @@ def test_a_link_opens_its_lesson_from_the_first_frame(browser, serve_app):
         assert tab.state("interpolation") == "flat", tab.state("interpolation")
 
 
-def test_after_every_experiment_the_address_bar_holds_the_view_and_reopens_it(browser, serve_app):
-    with lesson_tab(browser, serve_app) as tab, lesson_tab(browser, serve_app) as other:
+@pytest.mark.parametrize("stem", [e.path.stem for e in ENTRIES])  # a lesson a test: they share the workers
+def test_after_every_experiment_the_address_bar_holds_the_view_and_reopens_it(browser, serve_app, stem):
+    entry = _entry(stem)
+    with lesson_tab(browser, serve_app) as tab:
         url = tab.server["url"]
-        for entry in ENTRIES:
-            stem = entry.path.stem
-            tab.page.goto(f"{url}?lesson={stem}")
-            drawn(tab)
-            _wait_address(tab.page, f"?lesson={stem}", stem)
-            for k, experiment in enumerate(entry.lesson.experiments):
-                tab.page.locator(".phonglab-apply").nth(k).click()
-                wanted = expected_query(entry, k)
-                _wait_address(tab.page, wanted, f"{stem}, after {experiment.label!r}")
-                if (stem, k) in FRESH:
-                    shown = _on_screen(tab)
+        tab.page.goto(f"{url}?lesson={stem}")
+        drawn(tab)
+        _wait_address(tab.page, f"?lesson={stem}", stem)
+        for k, experiment in enumerate(entry.lesson.experiments):
+            tab.page.locator(".phonglab-apply").nth(k).click()
+            wanted = expected_query(entry, k)
+            _wait_address(tab.page, wanted, f"{stem}, after {experiment.label!r}")
+            if (stem, k) in FRESH:
+                shown = _on_screen(tab)
+                with lesson_tab(browser, serve_app) as other:
                     other.page.goto(url + wanted)
                     drawn(other)
                     _wait_address(other.page, wanted, f"{stem} reopened")
@@ -131,5 +133,5 @@ def test_after_every_experiment_the_address_bar_holds_the_view_and_reopens_it(br
                     except pytest.fail.Exception:
                         differ = {n: (shown[n], seen[-1][n]) for n in shown if seen and seen[-1][n] != shown[n]}
                         raise AssertionError(f"{wanted}: own tab, fresh tab differ in {differ}") from None
-                tab.page.locator(".phonglab-reset").click()
-                _wait_address(tab.page, f"?lesson={stem}", f"{stem} reset")
+            tab.page.locator(".phonglab-reset").click()
+            _wait_address(tab.page, f"?lesson={stem}", f"{stem} reset")

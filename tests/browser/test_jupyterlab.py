@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from waiting import wait_for
 
-from phonglab.bench.ui import MEASURE_JS, free_port, log_tail, start_server, stop_server
+from phonglab.bench.ui import LAZY_MEASURE_JS, free_port, log_tail, start_server, stop_server
 
 pytestmark = pytest.mark.browser
 
@@ -63,7 +63,7 @@ def test_a_notebook_cell_shows_the_lesson_view_and_a_slider_changes_the_picture(
     page = context.new_page()
     errors = []
     page.on("pageerror", lambda e: errors.append(str(e)))
-    page.add_init_script(MEASURE_JS)  # in every frame: the cell's iframe too
+    page.add_init_script(LAZY_MEASURE_JS)  # in every frame: the cell's iframe too
     try:
         page.goto(jupyterlab["url"])
         page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=120_000)

@@ -4,7 +4,8 @@ The page projects the tips with the browser's camera and places each letter abou
 (``www/phonglab.js``, ``phonglab-letters``). Here the same projection is made in the page and every
 letter drawn is checked against it: within :data:`REACH` pixels of its own tip, and nearer its own tip
 than any other arrow's (a reader takes a letter for its nearest tip's). Tips closer together than
-:data:`SAME_TIP` are one place, and either letter may be read as either. About 2 minutes on 2 loaded cores.
+:data:`SAME_TIP` are one place, and either letter may be read as either. About 2 minutes on 2 loaded cores
+for all the lessons, one lesson a test.
 """
 
 from __future__ import annotations
@@ -75,24 +76,23 @@ def _misplaced(tab, what) -> list[str]:
     return problems
 
 
-def test_every_lessons_letters_sit_at_their_own_tips(tab):
-    problems = []
-    for stem in STEMS:
-        tab.page.goto(f"{tab.server['url']}?lesson={stem}")
-        _settled(tab)
-        problems += _misplaced(tab, f"{stem} as it opens")
-        other = "gouraud" if tab.state("interpolation") == "pixel" else "pixel"
-        tab.set_state("interpolation", repr(other))
-        tab.page.wait_for_function("(p) => window.trame.state.get('pixel_mode') === p", arg=other == "pixel",
-                                   timeout=60_000)
-        _settled(tab)
-        problems += _misplaced(tab, f"{stem} in {other} mode")
-        azimuth, before = tab.state("camera__azimuth"), tab.state("arrow_camera")
-        tab.set_state("camera__azimuth", str(((azimuth + 215) % 360) - 180))  # the eye 35° round
-        tab.page.wait_for_function("(b) => JSON.stringify(window.trame.state.get('arrow_camera')) !== b",
-                                   arg=json.dumps(before, separators=(",", ":")), timeout=60_000)
-        _settled(tab)
-        problems += _misplaced(tab, f"{stem} in {other} mode, the eye 35° round")
+@pytest.mark.parametrize("stem", STEMS)  # one lesson a test, so the lessons share the workers
+def test_every_lessons_letters_sit_at_their_own_tips(tab, stem):
+    tab.page.goto(f"{tab.server['url']}?lesson={stem}")
+    _settled(tab)
+    problems = _misplaced(tab, f"{stem} as it opens")
+    other = "gouraud" if tab.state("interpolation") == "pixel" else "pixel"
+    tab.set_state("interpolation", repr(other))
+    tab.page.wait_for_function("(p) => window.trame.state.get('pixel_mode') === p", arg=other == "pixel",
+                               timeout=60_000)
+    _settled(tab)
+    problems += _misplaced(tab, f"{stem} in {other} mode")
+    azimuth, before = tab.state("camera__azimuth"), tab.state("arrow_camera")
+    tab.set_state("camera__azimuth", str(((azimuth + 215) % 360) - 180))  # the eye 35° round
+    tab.page.wait_for_function("(b) => JSON.stringify(window.trame.state.get('arrow_camera')) !== b",
+                               arg=json.dumps(before, separators=(",", ":")), timeout=60_000)
+    _settled(tab)
+    problems += _misplaced(tab, f"{stem} in {other} mode, the eye 35° round")
     assert not problems, "\n".join(problems)
 
 

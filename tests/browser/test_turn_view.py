@@ -399,7 +399,7 @@ def test_a_turned_view_whose_colours_never_come_is_drawn_after_its_hold(browser,
         page.page.mouse.up()
         turned = wait_for(lambda: [d for d in page.page.evaluate("() => window.__draws")
                                    if _moved(d["position"], before["position"])],
-                          "the turned view drawn without its colours", timeout=10)
+                          "the turned view drawn without its colours", timeout=30)
         colours = page.page.evaluate("() => window.phonglabView.phonglabDraw.colours")
         assert colours == before["colours"], f"colours came although the server's messages were dropped: {colours}"
         waited = turned[0]["at"] - pressed_at
@@ -431,7 +431,7 @@ def test_over_the_per_pixel_picture_a_drag_draws_nothing_and_the_letters_wait_fo
         assert during["letters"] == "none", f"letters shown over the old picture during the drag: {during}"
         wait_for(lambda: page.state("pixel_src") != picture, "the per-pixel picture for the new eye", timeout=60)
         wait_for(lambda: page.page.evaluate("() => getComputedStyle(document.querySelector('.phonglab-letters'))"
-                                            ".display") != "none", "the letters back on the new picture", timeout=10)
+                                            ".display") != "none", "the letters back on the new picture", timeout=30)
         assert not page.errors, page.errors
     finally:
         context.close()
