@@ -277,11 +277,11 @@ REFUSAL_IMPORTS = """
 import sys
 from phonglab.cli import main
 try:
-    status = main(["export", sys.argv[1], "-o", sys.argv[2]])
+    status = main(["export", sys.argv[1], "-o", sys.argv[2], *sys.argv[3:]])
 except SystemExit as exc:
     status = exc.code
-loaded = [m for m in ("vtk", "phonglab.render.view", "phonglab.render.shading", "phonglab.render.figures")
-          if m in sys.modules]
+loaded = [m for m in ("vtk", "vtkmodules", "pyvista", "phonglab.render.glyphs", "phonglab.render.view",
+                      "phonglab.render.shading", "phonglab.render.figures") if m in sys.modules]
 print(status, ",".join(loaded) or "-")
 """
 
@@ -296,3 +296,23 @@ def test_a_bad_scene_is_refused_before_the_renderer_loads(tmp_path):
     assert status == "2" and "bad.toml" in run.stderr, (bad.read_text(), run.stdout, run.stderr)
     assert loaded == "-", f"the renderer loaded before {bad.name} was refused: {loaded}; stderr {run.stderr}"
     assert not (tmp_path / "out.png").exists()
+
+
+def test_bad_vectors_are_refused_before_pyvista_loads(tmp_path):
+    # the letters are checked with the other options: an unknown one costs no PyVista import
+    scene = tmp_path / "scene.toml"
+    scene.write_text(SCENE, encoding="utf-8")
+    run = subprocess.run([sys.executable, "-c", REFUSAL_IMPORTS, str(scene), str(tmp_path / "out.png"),
+                          "--vectors", "NQ"], capture_output=True, text=True, timeout=300)
+    status, loaded = run.stdout.split()
+    assert status == "2" and "vectors" in run.stderr and "Q" in run.stderr, (run.stdout, run.stderr)
+    assert loaded == "-", f"the renderer loaded before --vectors NQ was refused: {loaded}; stderr {run.stderr}"
+
+
+def test_the_letters_checked_are_the_letters_drawn():
+    # parse_vectors lives with the options (no PyVista); the glyphs' colours and legend must name the same letters
+    from phonglab.render.glyphs import VECTORS
+    from phonglab.render.options import VECTOR_LETTERS, parse_vectors
+
+    assert "".join(VECTORS) == VECTOR_LETTERS, (list(VECTORS), VECTOR_LETTERS)
+    assert parse_vectors("h,v n") == "NVH"

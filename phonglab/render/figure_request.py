@@ -1,11 +1,12 @@
-"""What a figure asks for, checked before anything is rendered, without loading VTK.
+"""What a figure asks for, checked before anything is rendered, without loading VTK or PyVista.
 
 :func:`check_request` reads the scene or lesson, applies the settings and checks
 every option, size and bound of a :func:`~phonglab.render.figures.figure`; it
 returns a :class:`FigureRequest` that :func:`~phonglab.render.figures.render_request`
 renders. ``phonglab export`` calls it first, so a bad file, flag or value is
-refused in the time it takes to read it (about half a second) rather than after
-VTK has loaded (two to three seconds more).
+refused in the time it takes to start Python and read it (about a second here),
+before the renderer loads (``tests/test_export_cli.py`` checks that neither
+VTK, PyVista nor the render modules were imported).
 """
 
 from __future__ import annotations
@@ -16,7 +17,6 @@ from pathlib import Path
 
 from phonglab.render._files import clean_stale_temporaries
 from phonglab.render.errors import FigureError
-from phonglab.render.glyphs import parse_vectors
 from phonglab.render.layout import grid_layout
 from phonglab.render.options import (
     AUTO,
@@ -27,6 +27,7 @@ from phonglab.render.options import (
     check_render_work,
     normalize_sweeps,
     parse_size,
+    parse_vectors,
     resolve_mistake,
     resolve_source,
 )

@@ -18,6 +18,7 @@ import pyvista as pv
 
 from phonglab import core
 from phonglab.core.display import display_bytes, srgb_decode
+from phonglab.render.options import parse_vectors  # noqa: F401  (kept importable here: the view and figures use it)
 
 #: name of the uint8 RGB point array every glyph carries
 COLOR_ARRAY = "rgb"
@@ -47,32 +48,6 @@ AREA_PANEL_THICKNESS = 0.03
 AREA_PANEL_BACK = (72, 74, 82)
 
 
-def parse_vectors(letters) -> str:
-    """Normalise a vector selection: ``"NLRVH"``, ``"N,L,R"``, ``["N", "V"]``, ``""`` or None.
-
-    Returns
-    -------
-    str
-        The selected letters in drawing order (may be empty).
-
-    Raises
-    ------
-    ValueError
-        Naming the unknown letters and the allowed ones.
-    """
-    if letters is None:
-        return ""
-    if not isinstance(letters, str):
-        letters = "".join(str(x) for x in letters)
-    text = letters.replace(",", "").replace(" ", "").upper()
-    if text in ("NONE", ""):
-        return ""
-    unknown = sorted(set(text) - set(VECTORS))
-    if unknown:
-        raise ValueError(
-            f"vectors: unknown {', '.join(unknown)} in {letters!r}; allowed letters are N, L, R, V, H (or none)"
-        )
-    return "".join(v for v in VECTORS if v in text)
 
 
 def _unit(v) -> np.ndarray:

@@ -284,3 +284,39 @@ def normalize_sweeps(sweep, scene) -> list[tuple[str, list]]:
         for value in values:
             scene.replace(path, value)  # raises SceneError naming the path and value
     return parsed
+
+
+#: the vectors a figure or the view draws at the probe, in drawing order (their colours and legend:
+#: :data:`phonglab.render.glyphs.VECTORS`)
+VECTOR_LETTERS = "NLRVH"
+
+
+def parse_vectors(letters) -> str:
+    """Normalise a vector selection: ``"NLRVH"``, ``"N,L,R"``, ``["N", "V"]``, ``""`` or None.
+
+    Kept here, with the other options, so that a figure's request is checked
+    without loading PyVista (:mod:`~phonglab.render.figure_request`).
+
+    Returns
+    -------
+    str
+        The selected letters in drawing order (may be empty).
+
+    Raises
+    ------
+    ValueError
+        Naming the unknown letters and the allowed ones.
+    """
+    if letters is None:
+        return ""
+    if not isinstance(letters, str):
+        letters = "".join(str(x) for x in letters)
+    text = letters.replace(",", "").replace(" ", "").upper()
+    if text in ("NONE", ""):
+        return ""
+    unknown = sorted(set(text) - set(VECTOR_LETTERS))
+    if unknown:
+        raise ValueError(
+            f"vectors: unknown {', '.join(unknown)} in {letters!r}; allowed letters are N, L, R, V, H (or none)"
+        )
+    return "".join(v for v in VECTOR_LETTERS if v in text)
