@@ -132,3 +132,29 @@ def test_color_change_falls_back_to_the_whole_array():
     change = color_change(payload, previous, one, base)
     assert np.frombuffer(change["rows"], np.uint32).tolist() == [4] and change["values"] == bytes([1, 2, 3]), change
     assert change["base"] == "old" and change["hash"] == "new" and "data" not in change, change
+
+
+def test_a_click_in_a_lesson_whose_up_leans_is_not_a_turn(lesson_app):
+    # lesson 7's camera.up, [0, 0, 1], leans on its view direction; vtk.js reports after a click the camera it
+    # shows with the up made perpendicular and the view angle the server fitted: the same picture, not a turn
+    from pathlib import Path
+
+    from phonglab.app import address
+
+    text = (Path(__file__).resolve().parent.parent / "lessons" / "07-light-sources.md").read_text(encoding="utf-8")
+    app = lesson_app("07-light-sources.md", text, "test-click-lean")
+    before, shown = app.scene, app.view.camera_state()
+    d = np.subtract(shown.focal_point, shown.eye)
+    up = np.subtract(shown.up, np.dot(shown.up, d) / np.dot(d, d) * d)
+    clicked = {"position": list(shown.eye), "focalPoint": list(shown.focal_point),
+               "viewUp": (up / np.linalg.norm(up)).tolist(), "viewAngle": shown.view_angle}
+    assert not np.allclose(clicked["viewUp"], before.camera.up), (clicked, before.camera)  # the case at hand
+    app._apply_camera(clicked, final=True)
+    app._refresh_panels()
+    query = app.state[address.QUERY_KEY]
+    assert app.scene is before, (clicked, before.camera, app.scene.camera)
+    assert "view.turned" not in query and "camera." not in query, (clicked, query)
+    # a real turn still is one
+    app._apply_camera(browser_camera(app.scene, 20), final=True)
+    app._refresh_panels()
+    assert "view.turned=true" in app.state[address.QUERY_KEY], app.state[address.QUERY_KEY]

@@ -79,6 +79,52 @@ def scene_camera(scene, camera):
     return scene if moved.camera == scene.camera else moved
 
 
+def _unit_up(eye, focal_point, up):
+    """``up`` made perpendicular to the view direction and of length 1 (None where it cannot be)."""
+    d = [f - e for f, e in zip(focal_point, eye)]
+    dd = sum(c * c for c in d)
+    if dd == 0:
+        return None
+    along = sum(u * c for u, c in zip(up, d)) / dd
+    ortho = [u - along * c for u, c in zip(up, d)]
+    length = math.sqrt(sum(c * c for c in ortho))
+    return None if length == 0 else [c / length for c in ortho]
+
+
+def same_view(shown, camera, *, tolerance: float = 1e-6) -> bool:
+    """Whether a browser's ``camera`` is the view ``shown`` already: the same picture, not a turn.
+
+    vtk.js reports a camera after every interaction, a plain click too, with
+    its up vector made perpendicular to the view direction and the view angle
+    it draws (the server's, fitted to hold the arrows). A lesson whose
+    ``camera.up`` leans on the view direction (lesson 7's ``[0, 0, 1]``) then
+    comes back changed in its numbers only. This compares what the picture
+    depends on: the eye, the focal point, the up vector's direction across the
+    view and the view angle, each within ``tolerance`` relative to the eye's
+    distance (degrees for the angle).
+
+    Parameters
+    ----------
+    shown : phonglab.render.camera.CameraState
+        The camera the view shows (``eye``, ``focal_point``, ``up``, ``view_angle``).
+    camera : dict
+        As :func:`camera_settings` takes it; a malformed one is not the same view.
+    """
+    try:
+        settings = dict(camera_settings(camera))
+    except ValueError:
+        return False
+    eye, focal, up = settings["camera.eye"], settings["camera.focal_point"], settings["camera.up"]
+    scale = max(math.dist(shown.eye, shown.focal_point), 1e-12)
+    if math.dist(eye, shown.eye) > tolerance * scale or math.dist(focal, shown.focal_point) > tolerance * scale:
+        return False
+    angle = settings.get("camera.view_angle", shown.view_angle)
+    if abs(angle - shown.view_angle) > tolerance * max(1.0, abs(shown.view_angle)):
+        return False
+    mine, theirs = _unit_up(shown.eye, shown.focal_point, shown.up), _unit_up(eye, focal, up)
+    return mine is not None and theirs is not None and math.dist(mine, theirs) <= tolerance
+
+
 class Latest:
     """Run ``apply(camera, final)`` for the newest camera only, once the server is free.
 

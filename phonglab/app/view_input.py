@@ -106,8 +106,10 @@ class ViewInput:
         if self.scene is None or self.view is None:
             return
         clock = Stopwatch()
+        # the view as it is shown (a click, a frame without motion, vtk.js's own rounding of it): not a turn
+        same = eye.same_view(self.view.camera_state(), camera)
         try:
-            scene = eye.scene_camera(self.scene, camera)
+            scene = self.scene if same else eye.scene_camera(self.scene, camera)
             if scene is not self.scene and scene.probe is None:
                 # the default probe stays on the surface point it marks: turning the view moves the eye only
                 scene = scene.replace("probe", [round(float(c), 6) for c in self.view.probe[0]])
