@@ -350,3 +350,22 @@ def test_cook_torrance_says_why_its_factors_are_0_where_the_eye_is_below_the_sur
     says = "the eye is below the surface"
     assert any(says in n for n in below["notes"]), below["notes"]
     assert not any(says in n for n in facing["notes"]), facing["notes"]
+
+
+def test_the_factor_f_is_said_as_its_product(monkeypatch):
+    # lesson 7's spot: "f = 0.239 = attenuation … (at distance …) × spot factor …", never "f = distance 2.04, …"
+    import re
+
+    scene = load_lesson(LESSONS / "07-light-sources.md").scene
+    point, normal = np.array([0.3, -0.4, 0.0]), np.array([0.0, 0.0, 1.0])
+    spot = next(i for i, light in enumerate(scene.lights) if isinstance(light, pl.SpotLight))
+    out = probe_readout(scene, point, normal, spot)
+    said = [n for n in out["notes"] if re.search(r"\bf = ", n)]
+    assert len(said) == 1, out["notes"]
+    found = re.search(r"f = ([\d.]+) = attenuation ([\d.]+) \(at distance ([\d.]+)\) × spot factor ([\d.]+)\.", said[0])
+    assert found, said
+    f, attenuation, _, factor = (float(x) for x in found.groups())
+    assert f == pytest.approx(attenuation * factor, abs=1.5e-3), said
+    assert 0 < f < 1, said
+    # several lights: each light's row says its name, a colon and a space before its sum
+    assert re.search(r"<mtext>light&#x000A0;\d:</mtext><mspace", out["equation"]), out["equation"][-600:]

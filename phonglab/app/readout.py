@@ -167,7 +167,7 @@ def _rows(record, color, shown, several: bool) -> tuple[list[tuple[str, str]], l
         else:
             worked = (" + ".join(equation.symbols(t) if t in equation.SYMBOLS else rf"\text{{{t}}}" for t in lr.terms)
                       + f" = {_sum_tex([lr[t] for t in lr.terms])} = {equation.value(lr['adds'])}")
-        rows.append((name, rf"\text{{{name}}}: {worked}"))
+        rows.append((name, rf"\text{{{name}:}}\;{worked}"))  # the colon is words too: spaced from the row
         parts.append((f"{name} adds", lr["adds"]))
     rows.append(("total", f"I = {_sum_tex([rgb for _, rgb in parts])} = {equation.value(color)}"))
     parts.append(("total", color))
@@ -361,12 +361,14 @@ def _notes(scene, right, record, shown, out, mistake) -> list[str]:
             notes.append("n·v ≤ 0: the eye is below the surface here, and Cook–Torrance is one-sided, so D, V and "
                          "the light the point sends to the eye are 0.")
         if float(shown["f"]) != 1.0:
+            # f is the recorded product of the factors the kernel used: each named with its own value
             factors = []
             if "d" in shown.values:
-                factors.append(f"distance {float(shown['d']):.2f}, attenuation {float(shown['attenuation']):.3f}")
+                factors.append(f"attenuation {float(shown['attenuation']):.3f} (at distance {float(shown['d']):.2f})")
             if "spot" in shown.values:
                 factors.append(f"spot factor {float(shown['spot']):.3f}")
-            notes.append((f"For {out['light_name']}, f = " if several else "f = ") + ", ".join(factors) + ".")
+            notes.append((f"For {out['light_name']}, " if several else "")
+                         + f"f = {float(shown['f']):.3f} = " + " × ".join(factors) + ".")
     if bool(right["flipped"]):
         notes.append("Two-sided lighting flipped the normal: it faced away from the eye.")
     if scene.interpolation in INTERPOLATION_NOTES:
