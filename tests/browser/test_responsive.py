@@ -230,4 +230,23 @@ def test_an_experiment_applied_in_one_column_brings_the_view_into_sight(tab, les
     tab.wait_for_function(seen, arg=".phonglab-view", timeout=30_000)
     view = tab.locator(".phonglab-view").bounding_box()
     assert view["y"] >= 40, f"the view is under the page's bar: {view}"
+    # the view's own bar (legend, terms, probe or light) too: it sat under the page's bar, only slivers shown
+    tools, bar = tab.locator(".phonglab-viewbar").bounding_box(), tab.locator(".phonglab-bar").bounding_box()
+    assert tools["y"] >= bar["y"] + bar["height"] - 1, f"the view's tools are under the page's bar: {tools}, bar {bar}"
     assert tab.evaluate(seen, ".phonglab-notice"), "the notice over the view's foot should be in sight"
+
+
+def test_the_readouts_colour_dots_stay_round_beside_long_numbers(tab, lessons_server):
+    """Lesson 13's lake gives rows of 92.217: their dots were squeezed into slivers by the numbers."""
+    tab.set_viewport_size({"width": 1280, "height": 800})
+    open_by_address(tab, lessons_server, "13-physically-based")
+    tab.locator(".phonglab-experiment", has_text="Lake at sunset").locator(".phonglab-apply").click()
+    tab.wait_for_function("() => [...document.querySelectorAll('.phonglab-readout')].some(e => e.innerText.includes('92.'))",
+                          timeout=30_000)
+    dots = tab.evaluate("""() => [...document.querySelectorAll('.phonglab-readout .phonglab-swatch')]
+        .map(e => { const b = e.getBoundingClientRect(); return [b.width, b.height, e.parentElement.innerText.slice(0, 60)]; })
+        .filter(([w, h]) => w + h > 0)""")
+    assert dots, "no colour dots in the readout"
+    squeezed = [d for d in dots if abs(d[0] - d[1]) > 1]
+    assert not squeezed, f"dots not round (width, height, row): {squeezed}"
+

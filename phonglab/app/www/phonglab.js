@@ -568,6 +568,11 @@ const VIEW_NAME = "The scene in 3D: drag to turn it, the wheel zooms, a click mo
     if (!oneColumn.matches || !(event.target.closest && event.target.closest(".phonglab-apply"))) return;
     const view = document.querySelector(".phonglab-view");
     const box = view && view.getBoundingClientRect();
-    if (box && (box.bottom < 80 || box.top > window.innerHeight - 80)) view.scrollIntoView({ block: "start" });
+    if (!box || (box.bottom >= 80 && box.top <= window.innerHeight - 80)) return;
+    // the view's own bar (legend, terms, probe or light) comes first, just below the page's fixed bar
+    const target = document.querySelector(".phonglab-viewbar") || view;
+    const bar = document.querySelector(".phonglab-bar");
+    target.style.scrollMarginTop = `${Math.ceil(bar ? bar.getBoundingClientRect().bottom : 0) + 4}px`;
+    target.scrollIntoView({ block: "start" });
   });
 })();
