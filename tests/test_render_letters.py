@@ -71,3 +71,17 @@ def test_crowded_tips_keep_their_letters():
     for i in range(3):
         for j in range(i):
             assert np.max(np.abs(centres[i] - centres[j])) >= 12.0, ("letters on one tip cover each other", centres)
+
+
+def test_a_letter_is_not_put_on_another_arrow():
+    # two arrows from one probe along one line, one shorter: just past the short one's tip is the long one's
+    # shaft (lesson 4 as it opens put H over L so); the short one's letter turns off the line
+    base = np.array([100.0, 100.0])
+    tips = [(200.0, 100.0), (150.0, 100.0)]
+    directions = [tuple(np.subtract(t, base)) for t in tips]
+    centres = place_labels(tips, directions, [10.0, 10.0], [6.0, 6.0], SIZE)
+    short = centres[1]
+    # off the long arrow's line by more than half a letter's box, and still nearest its own tip
+    assert abs(short[1] - 100.0) > 6.0 or short[0] > 200.0 + 6.0, ("the letter lies on the long arrow", centres)
+    assert np.hypot(*(short - tips[1])) < np.hypot(*(short - tips[0])), centres
+

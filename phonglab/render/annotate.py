@@ -32,6 +32,14 @@ SAME_TIP = 3.0
 LABEL_PAD = 2.0
 
 
+def _to_segment(point, a, b) -> float:
+    """Pixels from ``point`` to the segment from ``a`` to ``b``."""
+    u = b - a
+    uu = float(u @ u)
+    t = min(1.0, max(0.0, float((point - a) @ u) / uu)) if uu > 0 else 0.0
+    return float(np.hypot(*(point - a - t * u)))
+
+
 def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
     """Where each letter's centre goes: about its own tip, never nearer another arrow's tip.
 
@@ -40,7 +48,7 @@ def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
     tips : sequence of (x, y)
         The arrow tips in image pixels (row 0 at the top), in drawing order.
     directions : sequence of (dx, dy)
-        Each arrow's direction on the image (any length; zero: seen end-on, the letter goes above).
+        Each arrow on the image, its tip less its base (zero: seen end-on, the letter goes above).
     offsets : sequence of float
         How far past its tip each letter's centre goes first, in pixels.
     halves : sequence of float
@@ -56,21 +64,27 @@ def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
     Notes
     -----
     The first place is ``offset`` past the tip along the arrow. Where it
-    covers a letter placed before, lies outside the image, or is as near
+    covers a letter placed before, lies outside the image, is as near
     another tip as its own (a letter reads as its nearest tip's; tips
-    within :data:`SAME_TIP` are one), the letter turns about its own tip by
+    within :data:`SAME_TIP` are one) or lies on another arrow (its box over
+    the line from that arrow's base to its tip), the letter turns about its own tip by
     :data:`LABEL_TURNS`, then a ring half a box further out; with no free
-    place in :data:`LABEL_RINGS` rings, the place covering and straying
-    least is taken. A letter never wanders off to another arrow.
+    place in :data:`LABEL_RINGS` rings, the place covering, straying and
+    crossing least is taken. A letter never wanders off to another arrow.
+    The page places its letters by the same rules (``placeLetter`` in
+    ``app/www/phonglab.js``).
     """
     width, height = size
     tips = [np.asarray(t, dtype=float) for t in tips]
+    # each arrow on the image, from its base (the probe) to its tip: a direction is the tip less the base
+    shafts = [(tip - np.asarray(direction, dtype=float), tip) for tip, direction in zip(tips, directions)]
     placed: list[tuple[np.ndarray, float]] = []
     for tip, direction, offset, half in zip(tips, directions, offsets, halves):
         d = np.asarray(direction, dtype=float)
         norm = float(np.hypot(*d))
         d = d / norm if norm > 1e-9 else np.array([0.0, -1.0])
-        others = [t for t in tips if float(np.hypot(*(t - tip))) >= SAME_TIP]
+        apart = [j for j, t in enumerate(tips) if float(np.hypot(*(t - tip))) >= SAME_TIP]
+        others = [tips[j] for j in apart]
         best = None
         for ring in range(LABEL_RINGS):
             r = offset + ring * half
@@ -80,8 +94,9 @@ def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
                 covers = sum(bool(np.all(np.abs(centre - other) < half + other_half + LABEL_PAD))
                              for other, other_half in placed)
                 strays = sum(float(np.hypot(*(other - centre))) <= r + 1.0 for other in others)
+                crosses = sum(_to_segment(centre, *shafts[j]) < half for j in apart)
                 outside = not (half <= centre[0] <= width - half and half <= centre[1] <= height - half)
-                cost = 3 * covers + 2 * strays + 2 * outside + ring
+                cost = 3 * covers + 2 * strays + 2 * outside + crosses + ring
                 if best is None or cost < best[0]:
                     best = (cost, centre)
                 if cost == ring:  # free: the nearest free place

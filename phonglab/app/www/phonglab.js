@@ -269,9 +269,9 @@ window.phonglab = {
     // at the arrow tips ({letter, base, tip, color}, world coordinates). Each frame in which the
     // browser's camera or the canvas changed, the tips are projected with the browser's own
     // camera; a letter goes just past its tip along the arrow (above it for an arrow seen
-    // end-on, like V). Where that place covers a letter placed before, or lies as near another
-    // arrow's tip as its own (a letter reads as its nearest tip's), the letter turns about its
-    // own tip, then a ring further out: it never wanders off to another arrow.
+    // end-on, like V). Where that place covers a letter placed before, lies as near another
+    // arrow's tip as its own (a letter reads as its nearest tip's) or on another arrow, the letter
+    // turns about its own tip, then a ring further out: it never wanders off to another arrow.
     const LETTER_GAP = 11; // pixels from the tip to the letter's centre
     const LETTER_BOX = 17; // pixels a letter keeps free around its centre
     const LETTER_STEP = 7; // pixels from one ring of places about a tip to the next
@@ -285,9 +285,16 @@ window.phonglab = {
       return Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) <= 1e-6 * scale
         && Math.abs(camera.getViewAngle() - server.view_angle) <= 1e-6 * server.view_angle;
     }
+    // pixels from a point to the segment from a to b
+    function toSegment(x, y, a, b) {
+      const ux = b[0] - a[0], uy = b[1] - a[1], uu = ux * ux + uy * uy;
+      const t = uu > 0 ? Math.min(1, Math.max(0, ((x - a[0]) * ux + (y - a[1]) * uy) / uu)) : 0;
+      return Math.hypot(x - a[0] - t * ux, y - a[1] - t * uy);
+    }
     // the place of a letter whose tip is `tip` and arrow runs along (dx, dy): the first free place about
-    // its tip, nearest first; else the one that covers and strays least
-    function placeLetter(tip, dx, dy, otherTips, placed) {
+    // its tip, nearest first (covering no letter, nearer no other tip, on no other arrow); else the one
+    // that covers, strays and crosses least. Twin of render/annotate.place_labels (figures).
+    function placeLetter(tip, dx, dy, otherTips, placed, otherShafts = []) {
       let best = null;
       for (let ring = 0; ring < LETTER_RINGS; ring++) {
         const r = LETTER_GAP + ring * LETTER_STEP;
@@ -296,8 +303,9 @@ window.phonglab = {
           const x = tip[0] + r * (c * dx - s * dy), y = tip[1] + r * (s * dx + c * dy);
           const covers = placed.filter((o) => Math.abs(o.x - x) < LETTER_BOX && Math.abs(o.y - y) < LETTER_BOX).length;
           const strays = otherTips.filter((o) => Math.hypot(o[0] - x, o[1] - y) <= r + 1).length;
-          if (!covers && !strays) return { x, y };
-          const cost = 3 * covers + 2 * strays + ring;
+          const crosses = otherShafts.filter(([a0, b0]) => toSegment(x, y, a0, b0) < LETTER_BOX / 2).length;
+          if (!covers && !strays && !crosses) return { x, y };
+          const cost = 3 * covers + 2 * strays + crosses + ring;
           if (!best || cost < best.cost) best = { x, y, cost };
         }
       }
@@ -374,8 +382,8 @@ window.phonglab = {
             let dx = tip[0] - base[0], dy = tip[1] - base[1];
             const length = Math.hypot(dx, dy);
             if (length < 4) { dx = 0; dy = -1; } else { dx /= length; dy /= length; }
-            const others = shown.filter((o) => Math.hypot(o.tip[0] - tip[0], o.tip[1] - tip[1]) >= SAME_TIP).map((o) => o.tip);
-            placed.push({ t, ...placeLetter(tip, dx, dy, others, placed) });
+            const apart = shown.filter((o) => Math.hypot(o.tip[0] - tip[0], o.tip[1] - tip[1]) >= SAME_TIP);
+            placed.push({ t, ...placeLetter(tip, dx, dy, apart.map((o) => o.tip), placed, apart.map((o) => [o.base, o.tip])) });
           }
           while (layer.children.length > placed.length) layer.lastChild.remove();
           placed.forEach((label, i) => {
