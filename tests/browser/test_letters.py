@@ -23,18 +23,21 @@ REACH = 26.0
 #: tips nearer than this (pixels) are one place
 SAME_TIP = 3.0
 
-#: every letter drawn: its centre, and its own and the other shown tips projected with the page's camera
+#: every letter drawn: its centre, and its own and the other shown tips (and the arrows' bases) projected
+#: with the page's camera
 LETTERS_JS = r"""() => {
   const view = window.phonglabView, renderer = view.renderer;
   const canvas = document.querySelector('.phonglab-view canvas');
   const w = canvas.clientWidth, h = canvas.clientHeight, aspect = w / h;
   const screen = (p) => { const d = renderer.worldToNormalizedDisplay(p[0], p[1], p[2], aspect);
     return [canvas.offsetLeft + d[0] * w, canvas.offsetTop + (1 - d[1]) * h]; };
-  const tips = {};
-  for (const t of (window.trame.state.get('arrow_tips') || [])) if (!t.behind) tips[t.letter] = screen(t.tip);
+  const tips = {}, bases = {};
+  for (const t of (window.trame.state.get('arrow_tips') || [])) {
+    if (!t.behind) { tips[t.letter] = screen(t.tip); bases[t.letter] = screen(t.base); }
+  }
   return Array.from(document.querySelectorAll('.phonglab-letters .phonglab-letter'))
     .filter((s) => s.parentNode.style.display !== 'none')
-    .map((s) => ({ letter: s.dataset.letter, at: [parseFloat(s.style.left), parseFloat(s.style.top)], tips }));
+    .map((s) => ({ letter: s.dataset.letter, at: [parseFloat(s.style.left), parseFloat(s.style.top)], tips, bases }));
 }"""
 
 
@@ -122,20 +125,6 @@ def test_the_letters_meet_the_pictures_arrows_after_a_new_marker_widens_the_view
     assert not problems, "\n".join(problems)
 
 
-#: every letter drawn and every shown arrow, base and tip, projected with the page's camera
-SHAFTS_JS = r"""() => {
-  const view = window.phonglabView, renderer = view.renderer;
-  const canvas = document.querySelector('.phonglab-view canvas');
-  const w = canvas.clientWidth, h = canvas.clientHeight, aspect = w / h;
-  const screen = (p) => { const d = renderer.worldToNormalizedDisplay(p[0], p[1], p[2], aspect);
-    return [canvas.offsetLeft + d[0] * w, canvas.offsetTop + (1 - d[1]) * h]; };
-  const arrows = {};
-  for (const t of (window.trame.state.get('arrow_tips') || [])) if (!t.behind) arrows[t.letter] = [screen(t.base), screen(t.tip)];
-  const letters = Array.from(document.querySelectorAll('.phonglab-letters .phonglab-letter'))
-    .filter((s) => s.parentNode.style.display !== 'none')
-    .map((s) => ({ letter: s.dataset.letter, at: [parseFloat(s.style.left), parseFloat(s.style.top)] }));
-  return { arrows, letters };
-}"""
 #: half a letter's box on the page (LETTER_BOX / 2 in www/phonglab.js)
 HALF_BOX = 8.5
 
@@ -151,12 +140,14 @@ def test_no_letter_sits_on_another_arrow_in_lesson_4_as_it_opens(tab):
     # lesson 4 as it opens: H was drawn over L's shaft, though free places about H's tip were left
     tab.page.goto(f"{tab.server['url']}?lesson=04-specular")
     _settled(tab)
-    found = tab.page.evaluate(SHAFTS_JS)
-    arrows, on = found["arrows"], []
-    for item in found["letters"]:
+    letters = tab.page.evaluate(LETTERS_JS)
+    assert letters, "no letters drawn in lesson 4"
+    arrows = {letter: (letters[0]["bases"][letter], tip) for letter, tip in letters[0]["tips"].items()}
+    on = []
+    for item in letters:
         own = arrows[item["letter"]][1]
         for other, (base, tip) in arrows.items():
             apart = ((tip[0] - own[0]) ** 2 + (tip[1] - own[1]) ** 2) ** 0.5 >= SAME_TIP
             if other != item["letter"] and apart and _to_segment(item["at"], base, tip) < HALF_BOX - 0.5:
                 on.append(f"{item['letter']} at {item['at']} lies on {other} ({base} to {tip})")
-    assert found["letters"] and not on, f"{on}; arrows {arrows}"
+    assert not on, f"{on}; arrows {arrows}"
