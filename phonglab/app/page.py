@@ -309,7 +309,7 @@ class _Page:
                     ColorPush(push=("view_colors",), expect=("!pixel_mode",), picture=("pixel_src",))
                     # in every mode; over the core's picture, only while the view's eye is the picture's
                     ArrowLetters(tips=("arrow_tips", []), camera=("arrow_camera", None), covered=("pixel_mode",))
-                client.SizeObserver("view_size")
+                client.SizeObserver("view_size", classes="phonglab-size")  # laid over the view: see the CSS
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
                     # decoded with the page's update: the picture shows in the frame its readout does
                     html.Img(src=("pixel_src",), alt="per-pixel shading by the core", decoding="sync")

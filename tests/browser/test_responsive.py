@@ -250,3 +250,16 @@ def test_the_readouts_colour_dots_stay_round_beside_long_numbers(tab, lessons_se
     squeezed = [d for d in dots if abs(d[0] - d[1]) > 1]
     assert not squeezed, f"dots not round (width, height, row): {squeezed}"
 
+
+
+@pytest.mark.parametrize("slug", ["01-light-and-surfaces", "13-physically-based"])
+def test_at_1280x800_the_page_fits_the_window_and_the_view_knows_its_size(tab, lessons_server, slug):
+    """The observer of the view's size sat below the view, as tall as it: the whole page scrolled by 18-45 px."""
+    tab.set_viewport_size({"width": 1280, "height": 800})
+    open_by_address(tab, lessons_server, slug)
+    tall = tab.evaluate("() => [document.scrollingElement.scrollHeight, innerHeight]")
+    assert tall[0] <= tall[1], f"{slug}: the page is {tall[0]} px tall in a window of {tall[1]}"
+    box = tab.locator(".phonglab-view").bounding_box()
+    tab.wait_for_function("(b) => { const s = window.trame.state.get('view_size'); const z = s && (s.size || s);"
+                          " return z && Math.abs(z.width - b.width) <= 1 && Math.abs(z.height - b.height) <= 1; }",
+                          arg=box, timeout=30_000)
