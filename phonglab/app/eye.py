@@ -22,6 +22,7 @@ import math
 from typing import Callable
 
 from phonglab.app.later import Later
+from phonglab.render.camera import stands_at
 
 #: the browser camera's keys and the scene camera fields they set
 BROWSER_KEYS = {"position": "camera.eye", "focalPoint": "camera.focal_point", "viewUp": "camera.up",
@@ -100,8 +101,9 @@ def same_view(shown, camera, *, tolerance: float = 1e-6) -> bool:
     ``camera.up`` leans on the view direction (lesson 7's ``[0, 0, 1]``) then
     comes back changed in its numbers only. This compares what the picture
     depends on: the eye, the focal point, the up vector's direction across the
-    view and the view angle, each within ``tolerance`` relative to the eye's
-    distance (degrees for the angle).
+    view and the view angle: the points as :func:`~phonglab.render.camera.stands_at`
+    compares them, the up vector's direction and the angle within ``tolerance``
+    (the angle relative to its degrees).
 
     Parameters
     ----------
@@ -115,8 +117,7 @@ def same_view(shown, camera, *, tolerance: float = 1e-6) -> bool:
     except ValueError:
         return False
     eye, focal, up = settings["camera.eye"], settings["camera.focal_point"], settings["camera.up"]
-    scale = max(math.dist(shown.eye, shown.focal_point), 1e-12)
-    if math.dist(eye, shown.eye) > tolerance * scale or math.dist(focal, shown.focal_point) > tolerance * scale:
+    if not stands_at(eye, focal, shown):  # the eye and the focal point, to a millionth of their distance
         return False
     angle = settings.get("camera.view_angle", shown.view_angle)
     if abs(angle - shown.view_angle) > tolerance * max(1.0, abs(shown.view_angle)):
