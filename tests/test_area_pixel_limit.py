@@ -66,6 +66,6 @@ def test_an_export_checks_its_own_pixels(tmp_path):
 
 
 def test_the_page_never_shades_more_pixels_than_the_scene_was_checked_for():
-    from phonglab.app.lesson_app import MAX_PIXEL_SIDE
+    from phonglab.app.view_input import MAX_PIXEL_SIDE
 
     assert MAX_PIXEL_SIDE**2 <= PIXEL_PICTURE, (MAX_PIXEL_SIDE, PIXEL_PICTURE)

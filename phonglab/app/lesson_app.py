@@ -40,7 +40,7 @@ from phonglab.app import controls as ctl
 from phonglab.app.control import ControlError
 from phonglab.app.control_state import ControlState
 from phonglab.app.wording import symbols_html
-from phonglab.app.view_input import MAX_PIXEL_SIDE, ViewInput, guarded as _guarded  # noqa: F401 (MAX_PIXEL_SIDE: the app's limit)
+from phonglab.app.view_input import ViewInput, guarded as _guarded
 from phonglab.app import eye, owned, page, shared, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
 from phonglab.app.check_question import CheckPanel

@@ -37,7 +37,7 @@ from phonglab.scene.schema import EXPOSURE_LIMIT, MAX_AREA_SAMPLE_POINTS, MAX_CO
 #: area-light methods that shoot ``samples`` rays per point
 MONTE_CARLO_METHODS = ("uniform", "stratified")
 #: pixels a per-pixel scene's area light is checked for before the picture's size is known:
-#: the largest view the page shades per pixel, 1600 × 1600 (``phonglab.app.lesson_app.MAX_PIXEL_SIDE``)
+#: the largest view the page shades per pixel, 1600 × 1600 (``phonglab.app.view_input.MAX_PIXEL_SIDE``)
 PIXEL_PICTURE = 1600 * 1600
 
 
