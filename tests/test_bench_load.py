@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
+from phonglab.app import page
 from phonglab.bench import load
 from phonglab.bench.load_student import _carries_picture, page_calls
 from phonglab.bench.scenes import lesson, red_sphere_tables
@@ -22,6 +24,18 @@ TEMPLATE = (
 )
 
 
+def test_a_student_moves_the_all_controls_panels_sliders_only_when_the_lesson_has_none():
+    # a control's box holds a head (its label and value) before its slider, as the page draws it
+    block = '<div class="phonglab-control phonglab-control-{key}{extra}"><div class="phonglab-control-head">x</div>'
+    own = block.format(key="ks", extra="") + '<VSlider v-model="ks" min="0.0" max="1.0" step="0.1" />'
+    every = (block.format(key="kd", extra=" phonglab-control-all")
+             + '<VSlider v-model="kd" min="0.0" max="1.0" step="0.1" />'
+             + block.format(key="ks", extra=" phonglab-control-all")
+             + '<VSlider v-model="ks" min="0.0" max="1.0" step="0.1" />')
+    assert page_calls({"trame__template_c": own + every}).sliders == [("ks", 0.0, 1.0, 0.1)]
+    assert page_calls({"trame__template_c": every}).sliders == [("kd", 0.0, 1.0, 0.1), ("ks", 0.0, 1.0, 0.1)]
+
+
 def test_a_student_finds_the_sliders_and_the_views_triggers_in_the_template():
     calls = page_calls({"trame__template_main": "<VBtn @click=\"trigger('trigger__1')\" />",
                         "trame__template_phonglab_controls": TEMPLATE, "other": TEMPLATE})
@@ -29,8 +43,29 @@ def test_a_student_finds_the_sliders_and_the_views_triggers_in_the_template():
     assert (calls.click, calls.turn, calls.turn_end) == ("trigger__6", "trigger__7", "trigger__8"), calls
 
 
+#: lesson 4's controls: the shininess, k_s, the eye and the second light's position
+LESSON_4_SLIDERS = ["material__shininess__log", "material__ks__level", "camera__azimuth", "camera__elevation",
+                    "camera__distance", "lights_1__azimuth", "lights_1__elevation", "lights_1__distance"]
+
+
+def test_a_student_finds_the_sliders_of_the_page_a_lesson_really_draws(lesson_app):
+    # the page writes a slider's range as plain attributes (min="0.0"): students that read only ":min"
+    # found no slider, and every "action" of the bench was a lifecycle call
+    lesson4 = (Path(__file__).resolve().parents[1] / "lessons" / "04-specular.md").read_text(encoding="utf-8")
+    app = lesson_app("04-specular.md", lesson4, "bench-load-template")
+    keys = ("trame__template_main", f"trame__template_{page.CONTROLS_TEMPLATE}")
+    templates = {key: app.state[key] for key in keys}
+    calls = page_calls(templates)
+    sliders = [key for key, *_ in calls.sliders]
+    # the lesson's own sliders, once each; not the "all controls" panel's (roughness moves nothing under Phong)
+    assert sorted(sliders) == sorted(LESSON_4_SLIDERS), (sliders, templates)
+    assert all(high > low for _, low, high, _ in calls.sliders), calls.sliders
+    assert calls.click and calls.turn and calls.turn_end, calls
+
+
 @pytest.mark.parametrize("result, carries", [
     ({"view_colors": {"data": b"x"}}, True), ([{"pixel_src": "data:"}], True),
+    ({"scene_phonglab_view": {"id": "1"}, "readout": {}}, True), ({1: "x"}, False),
     ({"readout": {}}, False), ([{"readout": 1}], False), (None, False)])
 def test_a_pushed_picture_is_recognised(result, carries):
     assert _carries_picture(result) is carries, result
@@ -60,6 +95,7 @@ def test_the_bench_runs_against_a_server_it_starts(tmp_path):
     rows = [line.split() for line in done.stdout.splitlines() if line.strip()[:1].isdigit()]
     assert [int(row[0]) for row in rows] == [1, 2], done.stdout
     assert all(float(row[2]) > 0 and row[9] == "0" for row in rows), done.stdout  # answered, nothing lost
+    assert all(int(row[13]) > 0 for row in rows), done.stdout  # the students moved the lesson's slider
     assert "largest class with p95 <= 100 ms" in done.stdout, done.stdout
 
 

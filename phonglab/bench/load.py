@@ -97,6 +97,7 @@ class Round:
     cpu_cores: float | None  #: server CPU seconds per second of the round
     pss_mb: float | None  #: the server's memory, pages shared between its processes counted once
     open_s: float  #: the slowest student's opening
+    sliders: int = 0  #: answered actions that moved a slider (the rest clicked or turned the view)
 
 
 def _percentiles(values) -> tuple:
@@ -153,6 +154,7 @@ async def run_round(url: str, clients: int, rate: float, seconds: float, *, pid:
         cpu_cores=load_server.cpu_between(before, after) / elapsed if pid else None,
         pss_mb=after.pss_mb if pid else None,
         open_s=max((o for o in opened if not isinstance(o, BaseException)), default=float("nan")),
+        sliders=sum(1 for t in timings if t.kind == "slider" and t.reply is not None),
     )
 
 
@@ -281,10 +283,11 @@ def print_round(r: Round) -> None:
     print(f"{r.clients:>7} {r.asked:>7.0f} {r.achieved:>8.1f}   "
           f"{_ms(r.reply_ms[0]):>5} {_ms(r.reply_ms[1]):>5} {_ms(r.reply_ms[2]):>6}   "
           f"{_ms(r.picture_ms[0]):>5} {_ms(r.picture_ms[1]):>5} {_ms(r.picture_ms[2]):>6}   "
-          f"{r.lost:>4} {cpu:>6} {rss:>7} {r.open_s:>6.1f}", flush=True)
+          f"{r.lost:>4} {cpu:>6} {rss:>7} {r.open_s:>6.1f} {r.sliders:>7}", flush=True)
 
 
-HEADER = ("clients   asked achieved   reply ms: p50   p95    max   picture: p50  p95    max   lost  cores  PSS MB  open s")
+HEADER = ("clients   asked achieved   reply ms: p50   p95    max   picture: p50  p95    max   lost  cores  PSS MB  open s"
+          " sliders")
 
 
 def bench_server(name: str, url: str, pid: int | None, args) -> list[Round]:

@@ -38,6 +38,8 @@ from phonglab.app import protocol
 
 #: the state keys that carry a new picture to the browser
 PICTURE_KEYS = ("view_colors", "pixel_src")
+#: the state key of a local view's whole scene starts with this (``scene_phonglab_view``)
+SCENE_PREFIX = "scene_"
 #: the view's size a student's browser reports (a laptop's half of the page)
 VIEW_SIZE = {"width": 640, "height": 480}
 #: seconds to wait for a reply before the action counts as lost
@@ -71,6 +73,9 @@ class PageCalls:
 
 
 _SLIDER = re.compile(r"<VSlider\b[^>]*>")
+#: a control's box in the page's template, and the class of those in the "all controls" panel
+_CONTROL_BLOCK = re.compile(r'<div class="(phonglab-control(?: [^"]*)?)"')
+ALL_CONTROLS_CLASS = "phonglab-control-all"  # page._widget(control, suffix="all")
 _ATTRIBUTE = re.compile(r'(:?[\w-]+)="([^"]*)"')
 
 
@@ -78,22 +83,37 @@ def page_calls(state: dict) -> PageCalls:
     """The sliders and view triggers of the page whose state is ``state`` (from ``trame.state.get``)."""
     calls = PageCalls()
     templates = [value for key, value in state.items() if key.startswith("trame__template_") and isinstance(value, str)]
+    every = []  # the "all controls" panel's sliders: moved only when the lesson shows none of its own
     for template in templates:
-        for tag in _SLIDER.findall(template):
-            attributes = dict(_ATTRIBUTE.findall(tag))
-            try:
+        blocks = [(m.start(), m.group(1).split()) for m in _CONTROL_BLOCK.finditer(template)]
+        for match in _SLIDER.finditer(template):
+            block = next((classes for start, classes in reversed(blocks) if start < match.start()), [])
+            attributes = dict(_ATTRIBUTE.findall(match.group(0)))
+            try:  # a bound (":min") or a plain ("min") attribute: the page writes a number either way
                 key = attributes["v-model"]
-                low, high = float(attributes[":min"]), float(attributes[":max"])
-                step = float(attributes.get(":step", "0") or 0)
+                low, high = float(_attribute(attributes, "min")), float(_attribute(attributes, "max"))
+                step = float(_attribute(attributes, "step", "0") or 0)
             except (KeyError, ValueError):
                 continue
-            if high > low:
-                calls.sliders.append((key, low, high, step))
+            chosen = every if ALL_CONTROLS_CLASS in block else calls.sliders
+            if high > low and all(key != seen[0] for seen in chosen):
+                chosen.append((key, low, high, step))
         for name, attribute in (("click", "@click"), ("turn", "@Animation"), ("turn_end", "@EndAnimation")):
             match = re.search(attribute + r"=\"trigger\('([\w]+)', \[(?:\$event|trame\.refs\.phonglab_view)", template)
             if match and getattr(calls, name) is None:
                 setattr(calls, name, match.group(1))
+    calls.sliders = calls.sliders or every
     return calls
+
+
+def _attribute(attributes: dict, name: str, default=None):
+    """A tag's attribute ``name``, bound (``:name``) or plain; KeyError when it has neither and no default."""
+    for spelled in (f":{name}", name):
+        if spelled in attributes:
+            return attributes[spelled]
+    if default is None:
+        raise KeyError(name)
+    return default
 
 
 def _camera_of(state: dict) -> tuple[list, list, list, float]:
@@ -339,6 +359,12 @@ class Student:
 
 
 def _carries_picture(result) -> bool:
-    """True when a published state change (a map of changed keys) carries a new picture: colours or the per-pixel image."""
+    """True when a published state change (a map of changed keys) carries a new picture.
+
+    The picture is the mesh's colours, the per-pixel image, or the view's
+    whole scene (``scene_<ref>``, trame-vtk's local view): a light or the
+    camera moved by a slider moves the arrows too, and the scene is sent again.
+    """
     changes = result[0] if isinstance(result, list) and result else result
-    return isinstance(changes, dict) and any(key in changes for key in PICTURE_KEYS)
+    return isinstance(changes, dict) and any(key in PICTURE_KEYS or key.startswith(SCENE_PREFIX) for key in changes
+                                             if isinstance(key, str))
