@@ -11,6 +11,7 @@ probe point.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -56,14 +57,15 @@ def _unit(v) -> np.ndarray:
     return v / n if n > 0 else v
 
 
-def relief(mesh: pv.PolyData, base_rgb, view_direction) -> np.ndarray:
+def relief(mesh: pv.PolyData | None, base_rgb, view_direction, *, points=None, normals=None) -> np.ndarray:
     """uint8 RGB per point: ``base_rgb`` (0..255) lit by a headlight, computed by the core.
 
     A matte material (``ka = kd = base``, a touch of specular) under an ambient
     light and a directional light from over the viewer's shoulder; gives glyphs
     a 3D look without VTK lighting. ``base_rgb`` is a colour as shown
     (sRGB): it is decoded to linear light, shaded, and encoded again, so a
-    glyph facing the light shows about its chip colour.
+    glyph facing the light shows about its chip colour. Without a ``mesh``,
+    ``points`` and ``normals`` (arrays of shape (n, 3)) are the mesh's.
     """
     base = tuple(float(c) for c in srgb_decode(np.asarray(base_rgb, dtype=np.float64) / 255.0))
     material = core.Material(ka=base, kd=base, ks=0.2, shininess=24.0)
@@ -73,8 +75,8 @@ def relief(mesh: pv.PolyData, base_rgb, view_direction) -> np.ndarray:
     towards = _unit(v + 0.6 * _unit(up - (up @ v) * v))
     lights = (core.AmbientLight(intensity=0.5), core.DirectionalLight(direction=tuple(towards), intensity=0.6))
     shading = core.shade(
-        np.asarray(mesh.points, dtype=np.float64),
-        np.asarray(mesh.point_data["Normals"], dtype=np.float64),
+        np.asarray(points if mesh is None else mesh.points, dtype=np.float64),
+        np.asarray(normals if mesh is None else mesh.point_data["Normals"], dtype=np.float64),
         view_direction=tuple(v),
         material=material,
         lights=lights,
@@ -123,18 +125,77 @@ def arrow(start, direction, color, view_direction, length: float = ARROW_FRACTIO
 
     The shaft and head radii are :data:`SHAFT_RADIUS` and :data:`TIP_RADIUS`
     whatever the length (world units; meshes fit about the unit sphere).
+
+    The arrow of each length is built once along +x, with its normals
+    (:func:`_arrow_model`); each call turns and moves a copy of its points and
+    normals, as ``pv.Arrow`` would turn the built arrow, and shades its relief.
+    Building it each time (VTK's arrow source, triangles, normals) cost about
+    3.6 ms an arrow, five arrows each time a slider moves a light or the eye.
     """
-    mesh = pv.Arrow(
-        start=tuple(np.asarray(start, dtype=float)),
-        direction=tuple(_unit(direction)),
+    points, normals, faces = _arrow_model(float(length))
+    turn = arrow_turn(direction)
+    points = points @ turn.T + np.asarray(start, dtype=np.float64)
+    normals = normals @ turn.T
+    out = pv.PolyData(points.astype(np.float32), faces=faces)
+    out.point_data[COLOR_ARRAY] = relief(None, color, view_direction, points=points, normals=normals)
+    return out
+
+
+def arrow_turn(direction) -> np.ndarray:
+    """The rotation that turns +x onto ``direction``, about the axis ``pv.Arrow`` turns its arrow.
+
+    Its columns are the direction and two unit vectors square to it; the
+    second is made from +y (from -x or +x when the direction is +y or -y).
+    """
+    x = _unit(direction)
+    helper = [0.0, 1.0, 0.0]
+    if np.allclose(x, [0, 1, 0]):
+        helper = [-1.0, 0.0, 0.0]
+    elif np.allclose(x, [0, -1, 0]):
+        helper = [1.0, 0.0, 0.0]
+    z = _unit(np.cross(x, helper))
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+@functools.lru_cache(maxsize=16)
+def _arrow_model(length: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The arrow ``length`` long from the origin along +x: its points, split normals and faces (read-only)."""
+    mesh = _with_normals(pv.Arrow(
+        start=(0.0, 0.0, 0.0),
+        direction=(1.0, 0.0, 0.0),
         tip_length=TIP_LENGTH,
         tip_radius=TIP_RADIUS / length,
         shaft_radius=SHAFT_RADIUS / length,
         tip_resolution=24,
         shaft_resolution=16,
         scale=length,
-    )
-    return _colored(mesh, color, view_direction)
+    ))
+    model = (np.array(mesh.points, dtype=np.float64), np.array(mesh.point_data["Normals"], dtype=np.float64),
+             np.array(mesh.faces))
+    for array in model:
+        array.flags.writeable = False
+    return model
+
+
+def _bulb(radius: float, centre, color, *, theta_resolution: int, phi_resolution: int) -> pv.PolyData:
+    """A ball of ``radius`` at ``centre`` in the flat colour ``color``: a light's bulb, unshaded (it glows)."""
+    points, faces = _ball_model(float(radius), theta_resolution, phi_resolution)
+    out = pv.PolyData((points + np.asarray(centre, dtype=np.float64)).astype(np.float32), faces=faces)
+    out.point_data[COLOR_ARRAY] = np.tile(np.asarray(color, dtype=np.uint8), (len(points), 1))
+    return out
+
+
+@functools.lru_cache(maxsize=8)
+def _ball_model(radius: float, theta_resolution: int, phi_resolution: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ball of ``radius`` about the origin as :func:`_colored` shapes it: points and faces (read-only).
+
+    Built once: a lamp's bulb follows its light at every step of a slider.
+    """
+    mesh = _with_normals(pv.Sphere(radius=radius, theta_resolution=theta_resolution, phi_resolution=phi_resolution))
+    model = (np.array(mesh.points, dtype=np.float64), np.array(mesh.faces))
+    for array in model:
+        array.flags.writeable = False
+    return model
 
 
 #: the marker colour of a light that gives no light (intensity or colour 0): a lamp switched off
@@ -174,11 +235,10 @@ def light_marker(light, view_direction, centre=(0.0, 0.0, 0.0)) -> pv.PolyData |
             resolution=32,
             capping=True,
         )
-        bulb = pv.Sphere(radius=0.45 * size, center=tuple(light.position), theta_resolution=16, phi_resolution=12)
-        return _colored(cone, color, view_direction).merge(_colored(bulb, color, view_direction, shaded=False))
+        bulb = _bulb(0.45 * size, light.position, color, theta_resolution=16, phi_resolution=12)
+        return _colored(cone, color, view_direction).merge(bulb)
     if isinstance(light, (core.PointLight, core.SpotLight)):
-        bulb = pv.Sphere(radius=size, center=tuple(light.position), theta_resolution=24, phi_resolution=16)
-        return _colored(bulb, color, view_direction, shaded=False)
+        return _bulb(size, light.position, color, theta_resolution=24, phi_resolution=16)
     if isinstance(light, core.DirectionalLight):
         d = _unit(light.direction)
         centre = np.asarray(centre, dtype=float)
