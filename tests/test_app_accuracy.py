@@ -5,6 +5,7 @@ from __future__ import annotations
 import base64
 import concurrent.futures
 import io
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -191,3 +192,19 @@ def test_the_worker_processes_run_the_work_and_stop():
     from phonglab.app import worker
 
     assert not worker.started()
+
+
+@pytest.mark.parametrize("method, resolution", [("pixel", 16), ("gouraud", 128)])
+def test_the_error_figures_a_lesson_states_are_the_panels(method, resolution):
+    # the peak error is one pixel's and moves with the pixel grid (0.06 at 160 pixels, 0.14 at 256 for
+    # per-pixel shading of 16 segments): lesson 11 stated one grid's figure while the panel showed another's
+    from phonglab.accuracy import claims
+    from phonglab.scene.lessons import load_lesson
+
+    lesson_file = Path(__file__).resolve().parents[1] / "lessons" / "11-accuracy.md"
+    scene = load_lesson(lesson_file).scene.replace_many([("camera.view_angle", 30.0)])
+    shown = panel.error_panel(method, resolution, scene.material.shininess)
+    figures = {f["name"]: f["value"] for f in shown["figures"]}
+    for measure, name in (("peak_error", "peak error"), ("highlight_rmse", "highlight RMSE"), ("rmse", "RMSE")):
+        stated = claims._error(scene, method, float(resolution), measure)
+        assert panel._figure(stated) == figures[name], (method, resolution, measure, stated, figures)

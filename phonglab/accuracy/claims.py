@@ -266,7 +266,10 @@ def _lit_cap(scene) -> float:
 
 @functools.lru_cache(maxsize=32)
 def _error(scene, method: str, resolution: float, measure: str) -> float:
-    setup = interpolation.Setup(material=scene.material, lights=tuple(scene.lights), view=_view(scene))
+    # on the grid of the page's error images, so the figures a lesson states are the panel's
+    size = interpolation.ERROR_IMAGE_SIZE
+    view = dataclasses.replace(_view(scene), width=size, height=size)
+    setup = interpolation.Setup(material=scene.material, lights=tuple(scene.lights), view=view)
     ref = interpolation.reference(setup, repeats=1)
     prep = interpolation.prepare(setup, int(resolution))
     row, _ = interpolation.measure(setup, ref, prep, method, repeats=1, seconds=0.0)

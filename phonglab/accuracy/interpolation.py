@@ -61,6 +61,10 @@ ERROR_BACKGROUND = (128, 128, 136)
 #: a pixel belongs to the highlight where the reference's specular term is at
 #: least this fraction of its peak
 HIGHLIGHT_FRACTION = 0.1
+#: the error images' side in pixels, as the page's accuracy panel shows them and lesson claims
+#: measure them: the error at one pixel (the peak) moves with the pixel grid (0.06 to 0.14 for
+#: per-pixel shading of 16 segments between 128 and 320 pixels), so the two must share one grid
+ERROR_IMAGE_SIZE = 256
 
 
 @dataclass(frozen=True)

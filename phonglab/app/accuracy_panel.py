@@ -39,6 +39,8 @@ import tempfile
 import threading
 from pathlib import Path
 
+from phonglab.accuracy.interpolation import ERROR_IMAGE_SIZE
+
 log = logging.getLogger(__name__)
 
 #: a lesson file ``NN-<slug>.md`` with this slug gets the panel
@@ -51,8 +53,8 @@ RESOLUTIONS = (8, 16, 32, 64, 128)
 DEFAULT_PICK = ("gouraud", 16)
 #: the longest wait for a result before the page says it failed (seconds)
 TIMEOUT = 180.0
-#: size of the error images in pixels (width = height)
-IMAGE_SIZE = 256
+#: size of the error images in pixels (width = height): the size lesson claims measure
+IMAGE_SIZE = ERROR_IMAGE_SIZE
 
 
 # ---------------------------------------------------------------------------
