@@ -125,9 +125,15 @@ def test_the_panel_shows_on_the_accuracy_lesson_only_and_follows_its_scene(app, 
     assert (s.accuracy_method, s.accuracy_view["method"]) == ("pixel", "pixel")
     control(app, "material__shininess__log", 1.0)
     assert s.accuracy_view["shininess"] == pytest.approx(10.0), s.accuracy_view["shininess"]
-    # a resolution the picker does not offer leaves the pick alone
+    control(app, "material__shininess__log", 2.39)  # α = 245.470892: the caption writes it as the slider does
+    assert s.accuracy_view["alpha"] == "245.47", s.accuracy_view
+    assert s.accuracy_unpicked == "", s.accuracy_unpicked
+    # a resolution the picker does not offer leaves the pick alone, and the panel says why
     control(app, "geometry__resolution", 20.0)
     assert s.accuracy_resolution == 16 and s.accuracy_view["resolution"] == 16
+    assert "20 segments" in s.accuracy_unpicked and "8, 16, 32, 64, 128" in s.accuracy_unpicked, s.accuracy_unpicked
+    control(app, "geometry__resolution", 32.0)  # one it offers: followed, and the note goes
+    assert s.accuracy_resolution == 32 and s.accuracy_unpicked == "", (s.accuracy_resolution, s.accuracy_unpicked)
     # the picker itself; the same pick twice computes once
     count = len(calls)
     s.accuracy_resolution = 64

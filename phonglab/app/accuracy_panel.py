@@ -95,6 +95,17 @@ def pick_for(scene) -> tuple[str, int] | None:
     return None
 
 
+def unpicked_words(scene) -> str:
+    """Why the picker shows another mesh than the view's, in a student's words."""
+    method, resolution = scene.interpolation, scene.geometry.resolution
+    label = dict(METHODS).get(method)
+    if label is None:
+        return f"The view's {method} shading is not one of the panel's methods: the panel keeps its own pick."
+    choices = ", ".join(str(r) for r in RESOLUTIONS)
+    return (f"The view's mesh has {resolution:g} segments, not one of the panel's ({choices}): "
+            f"the panel keeps its own pick. Pick one above, or set the view's resolution to one of them.")
+
+
 # ---------------------------------------------------------------------------
 # the work, run in a worker process
 
@@ -151,7 +162,8 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
     Returns
     -------
     dict
-        ``method``, ``resolution``, ``shininess``, ``display``, ``exposure`` (the request), the data
+        ``method``, ``resolution``, ``shininess``, ``display``, ``exposure`` (the request), ``alpha``
+        (the shininess as the page writes it), the data
         URLs ``render``, ``reference``, ``error`` and ``scale`` (the scale
         bar), ``scale_labels`` (the errors at the bar's ticks) and
         ``figures``: a list of ``{"name", "value", "title"}`` (RMSE, max
@@ -165,10 +177,13 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
                         encoding=display, exposure=float(exposure))
     lo, hi = view.error_range
     decades = round(math.log10(hi / lo))
+    from phonglab.app.equation import exponent
+
     return {
         "method": method,
         "resolution": int(resolution),
         "shininess": float(shininess),
+        "alpha": exponent(shininess),  # α as the slider and the readout write it (245.47, not 245.470892)
         "display": display,
         "exposure": float(exposure),
         "render": png_data_url(view.render),
@@ -263,7 +278,8 @@ class AccuracyPanel:
     result, or None), ``accuracy_busy`` (error images are being computed),
     ``accuracy_measuring`` (what they are, in words), ``accuracy_failed``
     (why the last ones did not come, in words, or "") and ``accuracy_retry``
-    (the page's "Try again" counts it up).
+    (the page's "Try again" counts it up), ``accuracy_unpicked`` (why the
+    picker did not follow the view's mesh, in words, or "").
 
     Parameters
     ----------
@@ -294,6 +310,7 @@ class AccuracyPanel:
         s.accuracy_failed = ""
         s.accuracy_retry = 0
         s.accuracy_zoom = False
+        s.accuracy_unpicked = ""
         self._plot_src = ""  # the last plot shown: it stays when measuring again fails
         s.change("accuracy_method")(lambda **_: self._on_pick("accuracy_method", check_method))
         s.change("accuracy_resolution")(lambda **_: self._on_pick("accuracy_resolution", check_resolution))
@@ -321,6 +338,8 @@ class AccuracyPanel:
             pick = pick_for(scene)
             if pick is not None or self._wanted is None:
                 self.state.accuracy_method, self.state.accuracy_resolution = pick or DEFAULT_PICK
+            # a student who moved the view's mesh to a size the picker has not sees why the panel stayed
+            self.state.accuracy_unpicked = "" if pick is not None else unpicked_words(scene)
         self._shininess = float(scene.material.shininess)
         self._display = (scene.display, float(scene.exposure))
         self._request()

@@ -358,6 +358,8 @@ class _Page:
                         v3.VBtn(str(value), value=(str(value),), size="small",  # bound: a number, not a string
                                 classes=f"phonglab-accuracy-resolution-{value}")
                 html.Span("segments", classes="phonglab-note")
+            html.Div("{{ accuracy_unpicked }}", v_if="accuracy_unpicked", role="status",
+                     classes="phonglab-note phonglab-accuracy-unpicked")
             v3.VProgressLinear(indeterminate=True, v_if="accuracy_busy", color="primary", height=2,
                                classes="phonglab-accuracy-busy")
             html.Div("{{ accuracy_measuring }}", v_if="accuracy_busy && accuracy_view",
@@ -369,7 +371,7 @@ class _Page:
                 for key, caption in (
                     ("render", "'render: ' + accuracy_view.method + ', ' + accuracy_view.resolution + ' segments'"),
                     ("reference", "'exact sphere'"),
-                    ("error", "'error |render \u2212 exact|, α = ' + accuracy_view.shininess"),
+                    ("error", "'error |render \u2212 exact|, α = ' + accuracy_view.alpha"),
                 ):
                     with html.Figure(classes=f"phonglab-accuracy-figure phonglab-accuracy-{key}"):
                         html.Img(src=(f"accuracy_view.{key}",), alt=key)
