@@ -152,7 +152,7 @@ def test_lesson_is_complete(path):
     goal = les.goal.strip()
     assert goal.endswith(".") and ". " not in goal, f"{where}: the goal must be one sentence, got {goal!r}"
     assert les.question.strip().endswith("?") and les.answer.strip(), f"{where}: question {les.question!r}"
-    assert 2 <= len(les.experiments) <= 3, f"{where}: {len(les.experiments)} experiments"
+    assert 2 <= len(les.experiments) <= 4, f"{where}: {len(les.experiments)} experiments"
     for e in les.experiments:
         assert e.label and e.text and e.settings, f"{where}: experiment {e}"
     assert 1 <= len(les.controls) <= 6, f"{where}: controls {les.controls} (the ones that matter, not all)"
