@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -333,3 +334,24 @@ def test_an_experiment_that_sets_k_d_to_0_leaves_the_page_its_colour(tmp_path):
         assert app.scene.material.kd == pytest.approx(kd), (kd, app.scene.material.kd)
     finally:
         app.close()
+
+
+def test_a_material_control_after_a_lights_controls_has_its_own_heading(lesson_app):
+    # lesson 5 lists light 1's and light 2's controls, then k_d: without a heading, k_d read as light 2's
+    from phonglab.app import page
+
+    text = (Path(__file__).resolve().parents[1] / "lessons" / "05-whole-model.md").read_text(encoding="utf-8")
+    app = lesson_app("05-whole-model.md", text, "material-heading")
+    template = app.state[f"trame__template_{page.CONTROLS_TEMPLATE}"]
+    lesson_part = template.split('class="v-expansion-panels', 1)[0].split("phonglab-all", 1)[0]
+    order = re.findall(r'phonglab-subsection">\s*([^<]+?)\s*<|phonglab-control-(material__kd__level)\b', lesson_part)
+    seen = [heading or control for heading, control in order]
+    assert "material__kd__level" in seen, seen
+    before = seen[:seen.index("material__kd__level")]
+    assert before and before[-1] == "Material", seen
+    # a lesson that starts with the material still shows it without a heading
+    text4 = (Path(__file__).resolve().parents[1] / "lessons" / "04-specular.md").read_text(encoding="utf-8")
+    app4 = lesson_app("04-specular.md", text4, "material-heading-4")
+    template4 = app4.state[f"trame__template_{page.CONTROLS_TEMPLATE}"].split("phonglab-all", 1)[0]
+    first = template4.find("phonglab-control-material__shininess__log")
+    assert first > 0 and "phonglab-subsection" not in template4[:first], template4[:first][-300:]

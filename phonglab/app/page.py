@@ -471,16 +471,23 @@ class _Page:
                     html.Span(v_html=("p.html",), classes="phonglab-plan-reason")
 
 
+#: groups of the lesson's controls shown without a heading while no other group has one above them
+UNHEADED_GROUPS = ("Material", "Shading", "View")
+
+
 def build_controls(server, chosen, all_controls=()) -> None:
     """Draw the controls panel: the lesson's controls (``chosen``), then every control by group."""
     with DivLayout(server, template_name=CONTROLS_TEMPLATE) as layout:
         layout.root.classes = "phonglab-controls"
         if chosen:
             html.Div("This lesson", classes="phonglab-section")
-            group = None
+            group, headed = None, False
             for control in chosen:
-                if control.group != group and control.group not in ("Material", "Shading", "View"):
+                # the material, shading and view need no heading of their own, until they follow one
+                # (lesson 5's k_d under "Light 2" read as a setting of that light)
+                if control.group != group and (control.group not in UNHEADED_GROUPS or headed):
                     html.Div(control.group, classes="phonglab-subsection")
+                    headed = True
                 group = control.group
                 _widget(control)
         if all_controls:
