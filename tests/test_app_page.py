@@ -355,3 +355,17 @@ def test_a_material_control_after_a_lights_controls_has_its_own_heading(lesson_a
     template4 = app4.state[f"trame__template_{page.CONTROLS_TEMPLATE}"].split("phonglab-all", 1)[0]
     first = template4.find("phonglab-control-material__shininess__log")
     assert first > 0 and "phonglab-subsection" not in template4[:first], template4[:first][-300:]
+
+
+def test_a_notice_sets_k_s_as_the_formulas_do_and_escapes_the_rest(lesson_app):
+    text = (Path(__file__).resolve().parents[1] / "lessons" / "10-beyond-phong.md").read_text(encoding="utf-8")
+    app = lesson_app("10-beyond-phong.md", text, "notice-html")
+    index = next(i for i, x in enumerate(app.entry.lesson.experiments) if x.label.startswith("Sharp, same"))
+    app.apply_experiment(index)
+    notice = app.state.notice
+    assert "$" not in notice["text"] and "$" not in notice["html"], notice
+    assert "<i>k</i><sub>s</sub>" in notice["html"], notice
+    app.notify("error", "Refused: <b>k_d</b> must be at most 1")
+    notice = app.state.notice
+    assert "&lt;b&gt;" in notice["html"] and "<b>" not in notice["html"], notice
+    assert "<i>k</i><sub>d</sub>" in notice["html"], notice

@@ -39,7 +39,7 @@ from trame.app import TrameApp
 from phonglab.app import controls as ctl
 from phonglab.app.control import ControlError
 from phonglab.app.control_state import ControlState
-from phonglab.app.wording import symbols_html
+from phonglab.app.wording import plain_label, symbols_html
 from phonglab.app.view_input import ViewInput, guarded as _guarded
 from phonglab.app import eye, owned, page, shared, sync, text
 from phonglab.app.accuracy_panel import AccuracyPanel
@@ -164,7 +164,9 @@ class LessonApp(ViewInput, TrameApp):
     def notify(self, kind: str, message: str) -> None:
         """Show a message above the controls (kind: "error", "success", "info")."""
         self._notice_serial += 1
-        self.state.notice = {"kind": kind, "text": owned.short(message), "serial": self._notice_serial}
+        text = owned.short(message)
+        # "html": the text escaped, with k_a, k_d, k_s set as the formulas set them (k with a subscript)
+        self.state.notice = {"kind": kind, "text": text, "html": symbols_html(text), "serial": self._notice_serial}
 
     # ------------------------------------------------------------------
     # lessons
@@ -246,7 +248,7 @@ class LessonApp(ViewInput, TrameApp):
             return
         ctl.keep_hues(self.scene, scene, self.options)  # a coefficient set to 0 keeps its colour for later
         self._show_scene(scene)
-        self.notify("info", f"Applied: {experiment.label}")
+        self.notify("info", f"Applied: {plain_label(experiment.label)}")  # the label's $k_s$ as k_s
 
     # ------------------------------------------------------------------
     # the scene on screen

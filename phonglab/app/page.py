@@ -412,7 +412,7 @@ class _Page:
             classes="phonglab-notice",
             click_close="notice = null",
         ):
-            html.Span("{{ notice.text }}")
+            html.Span(v_html=("notice.html",))  # escaped by notify(): only the subscripts are markup
         NoticeTimer(notice=("notice",))
 
     @staticmethod
