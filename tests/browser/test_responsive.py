@@ -158,7 +158,12 @@ def tab(browser, lessons_server):
 def open_by_address(page, server, slug):
     """Open ``?lesson=<slug>`` and wait until the page shows that lesson with its readout or panel."""
     query = f"?lesson={slug}"
-    if page.url.startswith(server["url"]):
+    shown = page.evaluate("() => window.trame && window.trame.state && window.trame.state.get('url_query')") \
+        if page.url.startswith(server["url"]) else None
+    # an address for the lesson already open applies its settings over the scene on screen (the page sends
+    # its address once, as it loads): a tab left with that lesson's experiment applied loads the page again
+    same_lesson = isinstance(shown, str) and shown != query and (shown + "&").startswith(query + "&")
+    if page.url.startswith(server["url"]) and not same_lesson:
         # the tab is on the app already: the address changes as a pasted link would change it, without
         # reloading the page (a reload builds a new session: many seconds on a loaded machine)
         page.evaluate("(q) => { history.replaceState(null, '', location.pathname + q); trame.state.set('url_request', q); }", query)
