@@ -139,7 +139,15 @@ def test_ambient_intensity_is_the_one_both_kernels_and_the_planner_use():
     ref = pl.shade_reference(points, normals, material=MATERIAL, lights=LIGHTS, eye=EYE)
     assert np.array_equal(fast.ambient[0], ka_ia) and np.array_equal(ref.ambient[0], ka_ia), (fast.ambient[0], ka_ia)
     plan = pl.plan_effects(MATERIAL, LIGHTS, eye=EYE)
-    assert f"({ka_ia[0]:g}, {ka_ia[1]:g}, {ka_ia[2]:g})" in dict(plan.computed)["ambient"], plan.computed
+    assert f"({ka_ia[0]:.3g}, {ka_ia[1]:.3g}, {ka_ia[2]:.3g})" in dict(plan.computed)["ambient"], plan.computed
+
+
+def test_the_planners_reasons_write_three_significant_digits_as_the_readout_does():
+    # the plan panel showed (0.0604857, 0.181457, 0.2117) beside the readout's three digits
+    material = pl.Material(ka=(0.0604857, 0.181457, 0.2117), kd=0.5, ks=0.0, shininess=10)
+    plan = pl.plan_effects(material, (pl.AmbientLight(intensity=1.0), pl.PointLight(position=(1, 2, 3))), eye=EYE)
+    reason = dict(plan.computed)["ambient"]
+    assert "(0.0605, 0.181, 0.212)" in reason, reason
 
 
 def test_vectors_come_from_the_record():

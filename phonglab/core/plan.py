@@ -88,7 +88,8 @@ class Plan:
 
 
 def _fmt(rgb) -> str:
-    return "(" + ", ".join(f"{c:g}" for c in rgb) + ")"
+    """An RGB triple in a reason, to 3 significant digits as the readout beside it writes its numbers."""
+    return "(" + ", ".join(f"{c:.3g}" for c in rgb) + ")"
 
 
 def _is_zero(rgb) -> bool:
