@@ -101,3 +101,28 @@ def test_alpha_means_the_shininess_only(lesson):
 def test_the_alpha_check_sees_a_blend_written_with_alpha():
     assert alpha_as_opacity("The opacity blends: $C = \\alpha C_s + (1 - \\alpha) C_b$.")
     assert not alpha_as_opacity("The opacity $o$ blends: $C = o C_s + (1 - o) C_b$.\n\nThe shininess $\\alpha$.")
+
+
+#: a coefficient's name left as typed (k_d), outside the page's formulas and code
+RAW_SYMBOL = re.compile(r"\bk_[adse]\b")
+
+
+def shown_as_html(where: str, text: str) -> str:
+    """``text`` as the page writes it: the body and the answer as Markdown, every shorter text inline."""
+    from phonglab.app import text as page_text
+
+    if where == "text":
+        return page_text.render_markdown(text)
+    if where == "answer":
+        return page_text.render_markdown(page_text.symbols_as_math(text))
+    return page_text.inline(text)
+
+
+@pytest.mark.parametrize("lesson", LESSONS, ids=IDS)
+def test_no_coefficient_reaches_the_page_as_typed(lesson):
+    # lesson 5's question and feedback and lesson 12's question showed "k_d" raw (student-eye review)
+    raw = []
+    for where, text in texts(lesson):
+        shown = re.sub(r"<math.*?</math>|<code>.*?</code>", "", shown_as_html(where, text), flags=re.DOTALL)
+        raw += [f"{where}: {m.group(0)!r} in {text[:80]!r}" for m in RAW_SYMBOL.finditer(shown)]
+    assert not raw, "\n".join(raw)

@@ -114,7 +114,7 @@ def _make_texts(lesson) -> dict:
             for i, x in enumerate(lesson.experiments)
         ],
         "question_html": text.inline(lesson.question) if lesson.question else "",
-        "answer_html": text.render_markdown(lesson.answer) if lesson.answer else "",
+        "answer_html": text.render_markdown(text.symbols_as_math(lesson.answer)) if lesson.answer else "",
     }
 
 

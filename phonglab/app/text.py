@@ -77,10 +77,33 @@ def render_markdown(text: str) -> str:
     return _TOKEN_RE.sub(paste, body)
 
 
+#: a material coefficient written plainly (``k_d``) in a lesson's plain-text field
+_PLAIN_SYMBOL = re.compile(r"(?<![\w\\{])k_([adse])(?![\w}])")
+#: what :func:`symbols_as_math` leaves alone: a written dollar (``\$``), formulas and code
+_MATH_OR_CODE = re.compile(r"(\\\$|\$\$.+?\$\$|\$[^$]+\$|`[^`]*`)", re.DOTALL)
+
+
+def symbols_as_math(text: str) -> str:
+    """``k_a``, ``k_d``, ``k_s``, ``k_e`` written plainly, as the formulas ``$k_d$``; formulas and code stay.
+
+    A lesson's front matter (its goal, question, answer, the check's
+    choices and feedback) is plain text in TOML, and its authors write k_d
+    there as in a sentence; the page sets it as the body's formulas do.
+
+    >>> symbols_as_math("k_d = 0.5, `k_d` and $k_d I_d$; peak_error")
+    '$k_d$ = 0.5, `k_d` and $k_d I_d$; peak_error'
+    """
+    parts = _MATH_OR_CODE.split(text)
+    return "".join(part if i % 2 else _PLAIN_SYMBOL.sub(r"$k_\1$", part) for i, part in enumerate(parts))
+
+
 @functools.lru_cache(maxsize=1024)
 def inline(text: str) -> str:
-    """A short text (a label, a goal) with ``$...$`` formulas, as HTML without a paragraph."""
-    html_text = render_markdown(text).strip()
+    """A short text (a label, a goal) with ``$...$`` formulas, as HTML without a paragraph.
+
+    A plainly written ``k_d`` is set as a formula (:func:`symbols_as_math`).
+    """
+    html_text = render_markdown(symbols_as_math(text)).strip()
     if html_text.startswith("<p>") and html_text.endswith("</p>") and html_text.count("<p>") == 1:
         html_text = html_text[3:-4]
     return html_text
