@@ -79,8 +79,8 @@ def render_markdown(text: str) -> str:
 
 #: a material coefficient written plainly (``k_d``) in a lesson's plain-text field
 _PLAIN_SYMBOL = re.compile(r"(?<![\w\\{])k_([adse])(?![\w}])")
-#: what :func:`symbols_as_math` leaves alone: a written dollar (``\$``), formulas and code
-_MATH_OR_CODE = re.compile(r"(\\\$|\$\$.+?\$\$|\$[^$]+\$|`[^`]*`)", re.DOTALL)
+#: what :func:`symbols_as_math` leaves alone: the formulas :data:`_MATH` finds, code, a written dollar (``\$``)
+_KEPT = re.compile(_MATH.pattern + r"|`[^`]*`|\\\$", re.DOTALL)
 
 
 def symbols_as_math(text: str) -> str:
@@ -93,8 +93,11 @@ def symbols_as_math(text: str) -> str:
     >>> symbols_as_math("k_d = 0.5, `k_d` and $k_d I_d$; peak_error")
     '$k_d$ = 0.5, `k_d` and $k_d I_d$; peak_error'
     """
-    parts = _MATH_OR_CODE.split(text)
-    return "".join(part if i % 2 else _PLAIN_SYMBOL.sub(r"$k_\1$", part) for i, part in enumerate(parts))
+    out, at = [], 0
+    for kept in _KEPT.finditer(text):
+        out += [_PLAIN_SYMBOL.sub(r"$k_\1$", text[at:kept.start()]), kept.group(0)]
+        at = kept.end()
+    return "".join(out) + _PLAIN_SYMBOL.sub(r"$k_\1$", text[at:])
 
 
 @functools.lru_cache(maxsize=1024)
