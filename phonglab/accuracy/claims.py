@@ -105,10 +105,10 @@ def _mesh(scene):
     return scene_mesh(scene)
 
 
-def _view(scene) -> View:
+def _view(scene, size: int = PICTURE_SIZE) -> View:
     cam = scene.camera
     return View(eye=tuple(cam.eye), focal_point=tuple(cam.focal_point), up=tuple(cam.up),
-                view_angle=float(cam.view_angle), width=PICTURE_SIZE, height=PICTURE_SIZE)
+                view_angle=float(cam.view_angle), width=size, height=size)
 
 
 def _shade(scene, points, normals, objects=None):
@@ -267,8 +267,7 @@ def _lit_cap(scene) -> float:
 @functools.lru_cache(maxsize=32)
 def _error(scene, method: str, resolution: float, measure: str) -> float:
     # on the grid of the page's error images, so the figures a lesson states are the panel's
-    size = interpolation.ERROR_IMAGE_SIZE
-    view = dataclasses.replace(_view(scene), width=size, height=size)
+    view = _view(scene, interpolation.ERROR_IMAGE_SIZE)
     setup = interpolation.Setup(material=scene.material, lights=tuple(scene.lights), view=view)
     ref = interpolation.reference(setup, repeats=1)
     prep = interpolation.prepare(setup, int(resolution))

@@ -98,8 +98,7 @@ def pick_for(scene) -> tuple[str, int] | None:
 def unpicked_words(scene) -> str:
     """Why the picker shows another mesh than the view's, in a student's words."""
     method, resolution = scene.interpolation, scene.geometry.resolution
-    label = dict(METHODS).get(method)
-    if label is None:
+    if method not in dict(METHODS):
         return f"The view's {method} shading is not one of the panel's methods: the panel keeps its own pick."
     choices = ", ".join(str(r) for r in RESOLUTIONS)
     return (f"The view's mesh has {resolution:g} segments, not one of the panel's ({choices}): "
