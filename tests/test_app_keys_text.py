@@ -84,3 +84,13 @@ def test_a_formula_that_cannot_be_typeset_shows_its_source_marked():
 def test_inline_drops_the_paragraph():
     assert inline("a $x$ b").startswith("a <math"), inline("a $x$ b")
     assert not inline("plain").startswith("<p>")
+
+
+def test_a_formula_and_the_punctuation_touching_it_are_one_unbreakable_span():
+    html = render_markdown("Light ($k_d$), then $n\\cdot l$. A $x$ alone and $y$-ish.")
+    spans = re.findall(r'<span class="phonglab-nobreak">(.*?)</span>', html)
+    assert len(spans) == 2, html
+    assert spans[0].startswith("(<math") and spans[0].endswith("</math>),"), html
+    assert spans[1].startswith("<math") and spans[1].endswith("</math>."), html
+    # a formula with a space on both sides (or a hyphen after it) may break there as any word does
+    assert "A <math" in html and "and <math" in html, html

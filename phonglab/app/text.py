@@ -22,6 +22,8 @@ from latex2mathml.converter import convert as _latex_to_mathml
 _MATH = re.compile(r"(?<!\\)\$\$(.+?)(?<!\\)\$\$|(?<![\\$])\$(?=\S)(.+?)(?<=\S)(?<!\\)\$(?!\$)", re.DOTALL)
 _TOKEN = "PHONGLABMATH{}X"
 _TOKEN_RE = re.compile(r"PHONGLABMATH(\d+)X")
+#: an inline formula with the brackets and punctuation that touch it: kept on one line with them
+_TOUCHING = re.compile(r"([(\[‘“]*)(PHONGLABMATH\d+X)([.,;:!?…)\]’”]*)")
 
 
 @functools.lru_cache(maxsize=4096)
@@ -72,9 +74,15 @@ def render_markdown(text: str) -> str:
     def paste(match: re.Match) -> str:
         return formulas[int(match.group(1))]
 
+    def touching(match: re.Match) -> str:
+        # a browser may break a line on either side of a formula, even before a full stop: not here
+        before, token, after = match.groups()
+        formula = paste(_TOKEN_RE.match(token))
+        return f'<span class="phonglab-nobreak">{before}{formula}{after}</span>' if before or after else formula
+
     # a display formula alone in a paragraph replaces the paragraph
     body = re.sub(r"<p>\s*(PHONGLABMATH\d+X)\s*</p>", lambda m: '<div class="math-block">' + paste(_TOKEN_RE.match(m.group(1))) + "</div>", body)
-    return _TOKEN_RE.sub(paste, body)
+    return _TOUCHING.sub(touching, body)
 
 
 #: a material coefficient written plainly (``k_d``) in a lesson's plain-text field

@@ -88,3 +88,46 @@ def test_display_maths_fits_breaks_or_scrolls_within_the_column(app_page, width)
         assert moderate["scale"] < 1 or moderate["lines"] > 1, f"the first formula is wider than the 1280 px column, yet whole: {moderate}"
     # the second one is far too wide for one line: it is broken into lines
     assert wide["lines"] > 1, f"the second formula is too wide for one line: {wide}"
+
+
+#: every inline formula of the lesson text followed by punctuation, in column widths from 220 to 520 px:
+#: the punctuation's line and the formula's last piece's line (a line may break before a formula, never
+#: between it and the full stop after it)
+PUNCTUATION_LINES = r"""() => {
+  const body = document.querySelector('.phonglab-body');
+  const found = [];
+  const mathsOf = () => [...body.querySelectorAll('math:not([display=block])')]
+    .filter((m) => !m.closest('.math-block') && !(m.closest('.math-pieces') && m.nextElementSibling));
+  for (let width = 220; width <= 520; width += 4) {
+    body.style.width = width + 'px';
+    for (const math of mathsOf()) {
+      const holder = math.closest('.math-pieces') || math;
+      const next = holder.nextSibling;
+      if (!next || next.nodeType !== Node.TEXT_NODE || !/^[.,;:!?)]/.test(next.data)) continue;
+      const range = document.createRange();
+      range.setStart(next, 0);
+      range.setEnd(next, 1);
+      const p = range.getBoundingClientRect(), f = math.getBoundingClientRect();
+      const middle = (p.top + p.bottom) / 2;
+      if (middle < f.top || middle > f.bottom) {
+        found.push({ width, formula: math.textContent.trim(), after: next.data.slice(0, 12),
+                     formulaBox: [f.left, f.top, f.bottom], mark: [p.left, p.top, p.bottom] });
+      }
+    }
+  }
+  body.style.width = '';
+  return { checked: mathsOf().length, broken: found.slice(0, 8), count: found.length };
+}"""
+
+
+@pytest.mark.parametrize("lesson", ["03-diffuse", "11-accuracy"])
+def test_a_line_never_breaks_between_a_formula_and_the_punctuation_after_it(browser, serve_app, lesson):
+    from real_lessons import lesson_tab, visit
+
+    with lesson_tab(browser, serve_app) as tab:
+        visit(tab, f"lesson={lesson}")
+        tab.page.wait_for_function("() => document.querySelectorAll('.phonglab-body math').length > 0")
+        result = tab.page.evaluate(PUNCTUATION_LINES)
+    assert result["checked"] > 5, f"lesson {lesson}: too few inline formulas found to check: {result}"
+    assert result["count"] == 0, (f"lesson {lesson}: {result['count']} (width, formula) pairs put the punctuation "
+                                  f"after a formula on the next line; the first: {result['broken']}")
