@@ -44,7 +44,9 @@ from phonglab.scene.schema import SCENE_FIELDS
 #: term view choices: value shown by the view -> label
 TERMS = (("color", "All terms"), ("ambient", "Ambient"), ("diffuse", "Diffuse"), ("specular", "Specular"))
 #: light types a light control can switch between (ambient lights keep their type)
-LIGHT_TYPES = (("point", "Point"), ("directional", "Directional"), ("spot", "Spot"))
+#: the light-type menu's items: a point light's w = 1 and a directional one's w = 0 are said in the items, where
+#: the narrow all-controls panel does not cut them off as it cut the menu's label
+LIGHT_TYPES = (("point", "Point (w = 1)"), ("directional", "Directional (w = 0)"), ("spot", "Spot"))
 MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"), ("cook-torrance", "Cook–Torrance"))
 INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)"), ("pixel", "Per pixel"))
 #: how the picture is encoded for the screen (the scene's ``display``)
@@ -179,7 +181,7 @@ def _light_controls(scene, index: int, frame: Frame, read_field) -> list[Control
         def type_write(scene, value, options, index=index):
             return _retype_light(scene, index, value, frame), options
 
-        controls.append(Control(path=f"{base}.type", label="type (w = 1 point, w = 0 directional)", kind="select", read=type_read, write=type_write,
+        controls.append(Control(path=f"{base}.type", label="light type", kind="select", read=type_read, write=type_write,
                                 items=LIGHT_TYPES, group=group))
 
         def place(which):
@@ -342,7 +344,7 @@ def _shadow_controls(read_field) -> list[Control]:
 def _display_controls(read_field) -> list[Control]:
     """The display encoding (sRGB or linear) and the exposure, as the scene's ``display`` and ``exposure``."""
     return [
-        _field("display", "display: sRGB or linear", "select", read_field, items=DISPLAYS, group="Display"),
+        _field("display", "encoding", "select", read_field, items=DISPLAYS, group="Display"),
         Control(path="exposure", label="exposure (× radiance)", kind="slider",
                 read=lambda scene, options: float(scene.exposure),
                 write=lambda scene, value, options: (scene.replace("exposure", value), options),
