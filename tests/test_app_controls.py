@@ -318,3 +318,42 @@ def test_a_coefficient_an_experiment_sets_to_0_keeps_its_colour(scene, by_path):
     raised, _ = level.apply(dark, 0.5, options)
     assert raised.material.kd == pytest.approx([0.5 * c for c in hue]), raised.material.kd
     assert ctl.keep_hues(dark, dark, {}) == {}, "a coefficient already at 0 has no colour to keep"
+
+
+#: a lesson's settings a slider does not reach on purpose, each said so in the lesson's own text:
+#: (lesson, experiment label, control key)
+BEYOND_A_SLIDER = {
+    # "The same lamp a thousand radii away, like the sun, further than the distance slider reaches (12)"
+    ("03-diffuse", "The sun, far away", "lights_1__distance"),
+}
+
+
+def _lesson_scenes():
+    """Every lesson's opening scene and each experiment's, with the controls' frame the page uses (the lesson's)."""
+    from phonglab.scene.lessons import catalog
+
+    entries, _ = catalog(LESSONS)
+    for entry in entries:
+        assert entry.ok, entry
+        frame = ctl.Frame.of_camera(entry.scene.camera)
+        yield entry.path.stem, None, entry.scene, frame
+        for experiment in entry.lesson.experiments:
+            yield entry.path.stem, experiment.label, entry.scene.replace_many(experiment.settings), frame
+
+
+def test_every_lesson_and_experiment_setting_sits_on_its_slider():
+    """A student can always move a slider back to the value a lesson set: no setting lies beyond its slider's ends.
+
+    Lesson 7's inverse-square experiment set attenuation c = 1 on a slider ending at 0.5 (one key press
+    left jumped to 0.495), and lesson 13's gold set the exposure to 0.05 on a slider starting at 0.1.
+    """
+    outside = []
+    for stem, label, scene, frame in _lesson_scenes():
+        for control in ctl.scene_controls(scene, frame):
+            if control.kind != "slider":
+                continue
+            value = float(control.read(scene, {"term": "color"}))
+            slack = 1e-9 * (control.high - control.low)
+            if not control.low - slack <= value <= control.high + slack and (stem, label, control.key) not in BEYOND_A_SLIDER:
+                outside.append((stem, label or "the lesson's scene", control.key, value, (control.low, control.high)))
+    assert not outside, f"settings beyond their slider's ends (lesson, experiment, control, value, slider): {outside}"

@@ -60,7 +60,7 @@ def test_display_select_and_exposure_slider_edit_the_scene(scene, by_path):
     assert dim.exposure == 0.5
     with pytest.raises(ControlError, match="display: must be one of srgb, linear, got 'gamma'"):
         display.apply(scene, "gamma", {})
-    with pytest.raises(ControlError, match="exposure: must be between 0.1 and 4, got 0"):
+    with pytest.raises(ControlError, match="exposure: must be between 0.05 and 4, got 0"):
         exposure.apply(scene, 0, {})
 
 

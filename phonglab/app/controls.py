@@ -51,8 +51,8 @@ MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"), ("cook-torrance", 
 INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)"), ("pixel", "Per pixel"))
 #: how the picture is encoded for the screen (the scene's ``display``)
 DISPLAYS = (("srgb", "sRGB"), ("linear", "linear (as 1990s fixed-function hardware did)"))
-#: the exposure slider's range: radiance × exposure before clipping
-EXPOSURE_RANGE = (0.1, 4.0)
+#: the exposure slider's range: radiance × exposure before clipping (from 0.05: lesson 13's gold highlight needs it)
+EXPOSURE_RANGE = (0.05, 4.0)
 #: the shadow-ray offset slider, scene units: 0 shows acne, the upper end light leaking (a file allows up to 10)
 SHADOW_BIAS_SLIDER = (0.0, 1.0)
 #: the shininess slider spans α = 10**0 .. 10**3
@@ -216,11 +216,13 @@ def _light_controls(scene, index: int, frame: Frame, read_field) -> list[Control
             group=group,
         )
     )
-    controls.append(_field(f"{base}.intensity", "intensity", "slider", read_field, low=0.0, high=2.0, step=0.01,
+    # up to 5: lesson 7's lamp under inverse-square fall-off needs 5 to light its floor
+    controls.append(_field(f"{base}.intensity", "intensity", "slider", read_field, low=0.0, high=5.0, step=0.01,
                            group=group))
     if isinstance(light, core.PointLight):  # point and spot
+        # c reaches 1: the physical inverse square (0, 0, 1) of lesson 7
         for i, (name, high, step) in enumerate((("a (constant)", 2.0, 0.01), ("b (linear)", 1.0, 0.01),
-                                                 ("c (quadratic)", 0.5, 0.005))):
+                                                 ("c (quadratic)", 1.0, 0.005))):
             controls.append(_field(f"{base}.attenuation[{i}]", f"attenuation {name}", "slider", read_field,
                                    low=0.0, high=high, step=step, fmt="{:.3f}", group=group))
     if isinstance(light, core.SpotLight):
