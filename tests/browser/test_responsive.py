@@ -219,6 +219,10 @@ def test_notice_does_not_push_the_controls_down(tab, lessons_server):
     assert notice["x"] >= 0 and notice["x"] + notice["width"] <= 1366, f"the notice {text!r} is outside the window: {notice}"
     found = tab.evaluate(MEASURE, {"notice": TEXT_BOXES["notice"]})
     assert not found, f"04-specular at 1366x768 with the notice {text!r}:\n" + "\n".join(found)
+    # at the view's very foot, over the hint line: higher up it covered the object the experiment had changed
+    view = tab.locator(".phonglab-view").bounding_box()
+    foot = view["y"] + view["height"] - (notice["y"] + notice["height"])
+    assert 0 <= foot <= 12, f"the notice {text!r} ends {foot:.0f} px above the view's foot (view {view}, notice {notice})"
 
 
 def test_an_experiment_applied_in_one_column_brings_the_view_into_sight(tab, lessons_server):
