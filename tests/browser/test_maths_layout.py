@@ -120,7 +120,7 @@ PUNCTUATION_LINES = r"""() => {
 }"""
 
 
-@pytest.mark.parametrize("lesson", ["03-diffuse", "11-accuracy"])
+@pytest.mark.parametrize("lesson", ["03-diffuse", "07-light-sources", "11-accuracy"])
 def test_a_line_never_breaks_between_a_formula_and_the_punctuation_after_it(browser, serve_app, lesson):
     from real_lessons import lesson_tab, visit
 
