@@ -43,9 +43,8 @@ from phonglab.scene.schema import SCENE_FIELDS
 
 #: term view choices: value shown by the view -> label
 TERMS = (("color", "All terms"), ("ambient", "Ambient"), ("diffuse", "Diffuse"), ("specular", "Specular"))
-#: light types a light control can switch between (ambient lights keep their type)
-#: the light-type menu's items: a point light's w = 1 and a directional one's w = 0 are said in the items, where
-#: the narrow all-controls panel does not cut them off as it cut the menu's label
+#: light types a light control can switch between (ambient lights keep their type); a point light's w = 1 and a
+#: directional one's w = 0 are said in the items, which the narrow all-controls panel does not cut off
 LIGHT_TYPES = (("point", "Point (w = 1)"), ("directional", "Directional (w = 0)"), ("spot", "Spot"))
 MODELS = (("phong", "Phong"), ("blinn-phong", "Blinn-Phong"), ("cook-torrance", "Cook–Torrance"))
 INTERPOLATIONS = (("flat", "Flat (per face)"), ("gouraud", "Gouraud (per vertex)"), ("pixel", "Per pixel"))

@@ -15,6 +15,8 @@ from real_lessons import lesson_tab, visit
 CHECK_JS = r"""() => {
   const out = { controls: 0, overlaps: [], cut: [] };
   const panel = document.querySelector('.phonglab-all');
+  // the text's own extent (a label's text may run past its box)
+  const box = (el) => { const r = document.createRange(); r.selectNodeContents(el); return r.getBoundingClientRect(); };
   for (const control of panel.querySelectorAll('.phonglab-control')) {
     out.controls += 1;
     const name = [...control.classList].find((c) => c.startsWith('phonglab-control-') && c !== 'phonglab-control-all');
@@ -22,8 +24,6 @@ CHECK_JS = r"""() => {
       .filter((el) => el.getClientRects().length);
     for (let i = 0; i < parts.length; i++) {
       for (let j = i + 1; j < parts.length; j++) {
-        // the text's own extent (a label's text may run past its box)
-        const box = (el) => { const r = document.createRange(); r.selectNodeContents(el); return r.getBoundingClientRect(); };
         const a = box(parts[i]), b = box(parts[j]);
         const w = Math.min(a.right, b.right) - Math.max(a.left, b.left), h = Math.min(a.bottom, b.bottom) - Math.max(a.top, b.top);
         if (w > 1 && h > 1) out.overlaps.push({ control: name, a: parts[i].textContent.trim(), b: parts[j].textContent.trim() });

@@ -12,6 +12,7 @@ still too wide scrolls sideways, with a fade where it continues.
 from __future__ import annotations
 
 import pytest
+from real_lessons import lesson_tab, visit
 
 #: the smallest scale formulas.js gives a formula before it breaks it into lines
 MIN_SCALE = 0.9
@@ -122,8 +123,6 @@ PUNCTUATION_LINES = r"""() => {
 
 @pytest.mark.parametrize("lesson", ["03-diffuse", "07-light-sources", "11-accuracy"])
 def test_a_line_never_breaks_between_a_formula_and_the_punctuation_after_it(browser, serve_app, lesson):
-    from real_lessons import lesson_tab, visit
-
     with lesson_tab(browser, serve_app) as tab:
         visit(tab, f"lesson={lesson}")
         tab.page.wait_for_function("() => document.querySelectorAll('.phonglab-body math').length > 0")
