@@ -329,3 +329,23 @@ def test_large_per_pixel_pictures_for_one_tab_leave_another_tab_responsive(gloss
 
     measure_within_bound(glossy_server, "per-pixel pictures", shading,
                          lambda report: None if report.get("pictures", 0) >= PICTURES else "tab A got too few pictures")
+
+
+def test_the_pictures_threads_are_all_there_from_the_first_picture_and_overlap_adds_none():
+    """However many pictures overlap, the server's threads stay as the first picture left them.
+
+    The event loop's default pool started a thread only when all it had were busy, so pictures that
+    overlapped on a slow moment left the server more threads for good (the session-leak test: 23 -> 25).
+    """
+    pool = pixel_picture.picture_threads()
+    before = threading.active_count()
+    release = threading.Event()
+    jobs = [pool.submit(release.wait, 30) for _ in range(pixel_picture.PICTURE_THREADS + 3)]
+    during = threading.active_count()
+    release.set()
+    for job in jobs:
+        job.result(timeout=30)
+    assert pixel_picture.picture_threads() is pool, "one pool per process"
+    assert len(pool._threads) == pixel_picture.PICTURE_THREADS, (len(pool._threads), pixel_picture.PICTURE_THREADS)
+    assert during == before, (f"{len(jobs)} overlapping jobs on {pixel_picture.PICTURE_THREADS} threads: "
+                              f"threads {before} -> {during}")

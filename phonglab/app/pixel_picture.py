@@ -34,6 +34,13 @@ What :class:`PixelPicture` promises:
   than the one shown is being made (the page says the picture is updating).
 * a failure in the thread is logged with its traceback; the tab gets a
   one-line notice, without it.
+
+The worker threads are the pictures' own (:func:`picture_threads`), all
+started together when the first picture is asked for. The event loop's
+default pool started a thread only when every one it had was busy, so a
+moment when the machine ran slow and pictures overlapped left the server
+with more threads than before, for good (the session-leak test saw 23
+grow to 25).
 """
 
 from __future__ import annotations
@@ -43,6 +50,9 @@ import base64
 import functools
 import io
 import logging
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
 
 from phonglab.app import owned
 
@@ -52,6 +62,29 @@ log = logging.getLogger(__name__)
 STATE_KEY = "pixel_src"
 #: the state key that is True while a newer picture than the one shown is being made
 PENDING_KEY = "pixel_pending"
+#: the pictures' worker threads: as many as the event loop's default pool may grow to
+PICTURE_THREADS = min(32, (os.cpu_count() or 1) + 4)
+
+_threads: ThreadPoolExecutor | None = None
+_threads_made = threading.Lock()
+
+
+def picture_threads() -> ThreadPoolExecutor:
+    """The process's pool for the pictures' NumPy part, its :data:`PICTURE_THREADS` threads all started at once.
+
+    A pool starts a thread for a job only when none is idle; here every
+    thread is made the first time, each held by a job until all exist, so
+    how many pictures overlap later never changes the server's threads.
+    """
+    global _threads
+    with _threads_made:
+        if _threads is None:
+            pool = ThreadPoolExecutor(max_workers=PICTURE_THREADS, thread_name_prefix="phonglab-picture")
+            all_there = threading.Barrier(PICTURE_THREADS)
+            for started in [pool.submit(all_there.wait) for _ in range(PICTURE_THREADS)]:
+                started.result()
+            _threads = pool
+        return _threads
 
 
 def picture_url(job) -> str:
@@ -152,7 +185,7 @@ class PixelPicture:
         serial = self.serial
         job = prepare()  # the VTK part, here in the loop's thread
         extra = along() if along is not None else {}  # for the same view, now
-        self._running = loop.run_in_executor(None, picture_url, job)
+        self._running = loop.run_in_executor(picture_threads(), picture_url, job)
         self._running.add_done_callback(functools.partial(self._done, serial, extra))
 
     def _done(self, serial: int, extra: dict, future) -> None:
