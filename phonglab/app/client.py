@@ -105,7 +105,9 @@ def color_payload(mapper, colors: np.ndarray, *, name: str, location: str, vtk_a
     return payload
 
 
-#: state key the browser sets to the ``hash`` of the pushed colours it shows (None when it could not apply a push)
+#: state key the browser sets to the ``hash`` of the pushed colours it shows (None when it could not apply a
+#: push), as a turn of the view starts and during it: not after a slider's push, which is whole anyway. A
+#: value it has not updated names older colours than the last push, so the next push is whole: safe
 SHOWN_KEY = "view_colors_shown"
 
 

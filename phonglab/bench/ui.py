@@ -452,11 +452,12 @@ class KeyPress(Probe):
         return latency
 
 
-#: true once the page shows colours pushed after ``hash`` (its own answer, ``view_colors_shown``, names them)
+#: true once the page shows colours pushed after ``hash`` (``phonglab.js`` keeps the hash of those it shows)
 _NEW_COLOURS_SHOWN = """(hash) => {
   const s = window.trame && window.trame.state;
   const push = s && s.get("view_colors");
-  return !!push && push.hash !== hash && s.get("view_colors_shown") === push.hash;
+  const colours = window.phonglabView && window.phonglabView.phonglabColours;
+  return !!push && push.hash !== hash && !!colours && colours.shown === push.hash;
 }"""
 
 

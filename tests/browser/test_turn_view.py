@@ -23,10 +23,12 @@ import base64
 import io
 from pathlib import Path
 
+import msgpack
 import numpy as np
 import pytest
 
 import phonglab as pl
+from phonglab.app import client, protocol
 from phonglab.app.eye import scene_camera
 from phonglab.render import SceneView
 from phonglab.render.compare import image_difference
@@ -155,12 +157,16 @@ def _server_render(scene, size, *, lit_by=None):
         view.close()
 
 
-def _lesson4_page(browser, server, mode, init_script=None):
-    """A fresh tab on lesson 4 in interpolation ``mode``, settled (``init_script`` runs before the page's)."""
+def _lesson4_page(browser, server, mode, init_script=None, listen=None):
+    """A fresh tab on lesson 4 in interpolation ``mode``, settled (``init_script`` runs before the page's;
+    ``listen`` is given the Playwright page before it opens)."""
     context = browser.new_context(viewport={"width": 1280, "height": 800})
     if init_script:
         context.add_init_script(init_script)
-    page = Page(context.new_page(), server)
+    tab = context.new_page()
+    if listen:
+        listen(tab)
+    page = Page(tab, server)
     page.open()
     if page.state("interpolation") != mode:
         page.set_state("interpolation", repr(mode))
@@ -432,6 +438,78 @@ def test_over_the_per_pixel_picture_a_drag_draws_nothing_and_the_letters_wait_fo
         wait_for(lambda: page.state("pixel_src") != picture, "the per-pixel picture for the new eye", timeout=60)
         wait_for(lambda: page.page.evaluate("() => getComputedStyle(document.querySelector('.phonglab-letters'))"
                                             ".display") != "none", "the letters back on the new picture", timeout=30)
+        assert not page.errors, page.errors
+    finally:
+        context.close()
+
+
+def _messages(tab, sent: list, received: list) -> None:
+    """Every whole wslink message of ``tab``'s sockets, decoded, into ``sent`` and ``received``."""
+    def on_socket(socket):
+        def keep(assembler, into):
+            def on_frame(payload):
+                whole = assembler.feed(payload) if isinstance(payload, bytes) else None
+                if whole is not None:
+                    into.append(msgpack.unpackb(whole, strict_map_key=False))
+            return on_frame
+        socket.on("framesent", keep(protocol.Assembler(), sent))
+        socket.on("framereceived", keep(protocol.Assembler(), received))
+    tab.on("websocket", on_socket)
+
+
+def _told(sent: list) -> list:
+    """The values of the colours-shown key the page sent."""
+    return [change["value"] for m in sent if m.get("method") == "trame.state.update"
+            for change in (m.get("args") or [[]])[0] if change.get("key") == client.SHOWN_KEY]
+
+
+def _pushes(received: list, page=None) -> list:
+    """The colour pushes the page received, oldest first (with ``page``, after letting Playwright, which
+    delivers a socket's frames only during its own calls, hand over those that came)."""
+    if page is not None:
+        page.page.evaluate("() => 0")
+    return [m["result"]["view_colors"] for m in received if str(m.get("id", "")).startswith("publish:")
+            and isinstance(m.get("result"), dict) and isinstance(m["result"].get("view_colors"), dict)]
+
+
+SHOWN_HASH_JS = "() => window.phonglabView.phonglabColours.shown"
+
+
+def test_the_page_names_its_colours_to_the_server_for_a_turn_not_after_each_slider_step(browser, lesson4_server):
+    # a slider's colours come whole, so the page's answer naming them was one more message per step for the
+    # server; a turn's colours come as the rows that change, from the colours the page said it shows
+    sent, received = [], []
+    context, page = _lesson4_page(browser, lesson4_server, "gouraud", listen=lambda tab: _messages(tab, sent, received))
+    try:
+        slider = page.slider("material__shininess__log")
+        told_before = len(_told(sent))
+        for key in ("ArrowRight", "ArrowRight", "ArrowLeft"):
+            pushed = len(_pushes(received))
+            slider.focus()
+            page.page.keyboard.press(key)
+            wait_for(lambda: len(_pushes(received, page)) > pushed, f"the colours for the shininess after {key}",
+                     timeout=30)
+            last = _pushes(received)[-1]
+            wait_for(lambda: page.page.evaluate(SHOWN_HASH_JS) == last.get("hash"),
+                     f"the page showing the colours {last.get('hash')}", timeout=30)
+        page.wait_settled()
+        steps = _told(sent)[told_before:]
+        assert not steps, f"the page named its colours after slider steps, one message each: {steps}"
+        assert "rows" not in last, f"a slider's colours came as a change: {sorted(last)}"
+
+        pushed = len(_pushes(received))
+        _drag(page)
+        wait_for(lambda: len(_pushes(received, page)) > pushed
+                 and page.page.evaluate(SHOWN_HASH_JS) == _pushes(received)[-1].get("hash"),
+                 "the turned view's colours shown", timeout=60)
+        told = _told(sent)[told_before:]
+        assert told and told[0] == last["hash"], (
+            f"the drag did not start by naming the colours on screen {last['hash']}: told {told}")
+        turn = _pushes(received)[pushed:]
+        # the first of them too: named as the drag starts, the colours of the last key press are its base
+        assert "rows" in turn[0] and turn[0].get("base") == last["hash"], (
+            f"the drag's first colours came whole, not as a change from {last['hash']}: "
+            f"{[(sorted(push), push.get('base')) for push in turn]}")
         assert not page.errors, page.errors
     finally:
         context.close()

@@ -40,9 +40,13 @@ window.phonglab = {
         this.draw = { shown: null, colours: 0, coloursShown: 0, holdSince: null, holdLimit: 0, timer: null,
                       changedAt: null, frameMs: 0, roundTripMs: null, lettersTimer: null };
         if (this.view) this.view.phonglabDraw = this.draw; // read by the browser tests
+        // the hash of the pushed colours on screen, and the last one the server was told (see tell())
+        this.hashes = { shown: null, told: null };
+        if (this.view) this.view.phonglabColours = this.hashes; // read by the browser tests and `bench ui`
         const interactor = this.view && this.view.interactor;
         if (!interactor) return;
         this.subscriptions = [
+          interactor.onStartAnimation(() => this.tell()), // a drag or a zoom starts
           interactor.onAnimation(() => this.frame(false)),
           interactor.onEndAnimation(() => this.frame(true)),
           interactor.onRenderEvent(() => this.drawn()),
@@ -191,9 +195,20 @@ window.phonglab = {
           ctx.phonglabPushed.clear(); // only the newest colours: the older ones are never asked for again
           ctx.phonglabPushed.set(hash, values);
         },
-        // tell the server which pushed colours are on screen (it then sends only the rows that change)
-        shown(hash) {
-          if (window.trame && window.trame.state) window.trame.state.set("view_colors_shown", hash);
+        // the pushed colours now on screen (null: none); `turning` says the server must hear of them now
+        shown(hash, turning) {
+          this.hashes.shown = hash;
+          if (turning || (this.view.interactor && this.view.interactor.isAnimating())) this.tell();
+        },
+        // Tell the server which pushed colours are on screen: a turn's next colours then come as only the
+        // rows that change. Only a turn sends changes, so the server hears it when one starts and during
+        // one, not after every slider step: a slider's colours come whole, and an answer per step would
+        // be a second message for the server to handle each time.
+        tell() {
+          const h = this.hashes;
+          if (!h || h.told === h.shown) return;
+          h.told = h.shown;
+          if (window.trame && window.trame.state) window.trame.state.set("view_colors_shown", h.shown);
         },
         // the bytes of a msgpack binary value (ArrayBuffer or a view into the message)
         bytesOf(raw) {
@@ -238,13 +253,14 @@ window.phonglab = {
           const values = push.rows ? this.changed(push, old) : this.whole(push, old);
           if (!values) {
             this.pending = null;
-            this.shown(null); // the server sends the next colours whole
+            // the server sends the next colours whole (told only if it was told of other colours)
+            this.shown(null, this.hashes.told !== null);
             return;
           }
           found.array.setData(values, found.array.getNumberOfComponents());
           found.data.modified();
           if (push.hash) this.remember(push.hash, values);
-          this.shown(push.hash || null);
+          this.shown(push.hash || null, !!push.rows); // a change comes during a turn: its next may be one too
           this.pending = null;
           const d = this.draw;
           if (d) {
