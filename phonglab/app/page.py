@@ -311,8 +311,10 @@ class _Page:
                     ArrowLetters(tips=("arrow_tips", []), camera=("arrow_camera", None), covered=("pixel_mode",))
                 client.SizeObserver("view_size", classes="phonglab-size")  # laid over the view: see the CSS
                 with html.Div(v_if="pixel_mode", classes="phonglab-pixel"):
-                    # decoded with the page's update: the picture shows in the frame its readout does
-                    html.Img(src=("pixel_src",), alt="per-pixel shading by the core", decoding="sync")
+                    # decoded with the page's update: the picture shows in the frame its readout does. None
+                    # until the first picture comes (switching to per pixel): an empty one showed a broken image
+                    html.Img(v_if="pixel_src", src=("pixel_src",), alt="per-pixel shading by the core",
+                             decoding="sync")
                     html.Div("updating the picture…", v_if="pixel_pending", role="status",
                              classes="phonglab-pixel-updating")
                 self._compare_panel()

@@ -225,6 +225,54 @@ def test_notice_does_not_push_the_controls_down(tab, lessons_server):
     assert 0 <= foot <= 12, f"the notice {text!r} ends {foot:.0f} px above the view's foot (view {view}, notice {notice})"
 
 
+#: every animation frame: an image over the view without a picture (a broken image), and the number of frames
+WATCH_PICTURE_JS = """() => {
+  const seen = (window.__pictureWatch = { frames: 0, broken: [] });
+  const frame = () => {
+    seen.frames += 1;
+    const img = document.querySelector('.phonglab-pixel img');
+    if (img && !img.getAttribute('src')) seen.broken.push(seen.frames);
+    if (!seen.stop) requestAnimationFrame(frame);
+  };
+  requestAnimationFrame(frame);
+}"""
+#: the box of a "picture on its way" note, made for the measurement if none is showing, and the notice's
+UPDATING_AND_NOTICE_JS = """() => {
+  const box = (e) => { const b = e.getBoundingClientRect(); return [b.left, b.top, b.right, b.bottom]; };
+  let note = document.querySelector('.phonglab-pixel-updating'), made = false;
+  if (!note) {
+    note = document.createElement('div');
+    note.className = 'phonglab-pixel-updating';
+    note.textContent = 'updating the picture…';
+    document.querySelector('.phonglab-pixel').appendChild(note);
+    made = true;
+  }
+  const boxes = { updating: box(note), notice: box(document.querySelector('.phonglab-notice')) };
+  if (made) note.remove();
+  return boxes;
+}"""
+
+
+def test_turning_per_pixel_shading_on_shows_no_broken_image_and_both_notes(tab, lessons_server):
+    """Lesson 8's "Per pixel": until the first picture came, the view showed a broken image with its alt text,
+    and the "Applied" notice lay over the "updating the picture…" note."""
+    tab.set_viewport_size({"width": 1366, "height": 768})
+    open_by_address(tab, lessons_server, "08-interpolation")
+    assert not tab.evaluate("() => window.trame.state.get('pixel_mode')"), "lesson 8 should open in Gouraud shading"
+    tab.evaluate(WATCH_PICTURE_JS)
+    tab.locator(".phonglab-experiment", has_text="Interpolate the normals").locator(".phonglab-apply").click()
+    tab.wait_for_selector(".phonglab-notice", timeout=20_000)
+    tab.wait_for_function("() => { const s = window.trame.state; return s.get('pixel_mode') && s.get('pixel_src')"
+                          " && !s.get('pixel_pending'); }", timeout=60_000)
+    boxes = tab.evaluate(UPDATING_AND_NOTICE_JS)
+    seen = tab.evaluate("() => { window.__pictureWatch.stop = true; return window.__pictureWatch; }")
+    assert seen["frames"] > 0 and not seen["broken"], (
+        f"an image without a picture over the view in {len(seen['broken'])} of {seen['frames']} frames")
+    a, b = boxes["updating"], boxes["notice"]
+    apart = a[2] <= b[0] or b[2] <= a[0] or a[3] <= b[1] or b[3] <= a[1]
+    assert apart, f"the notice {b} covers the note that a picture is on its way {a} (left, top, right, bottom)"
+
+
 def test_an_experiment_applied_in_one_column_brings_the_view_into_sight(tab, lessons_server):
     """At 800x900 the text comes last, far below the view: Apply there changed a view out of sight."""
     tab.set_viewport_size({"width": 800, "height": 900})
