@@ -48,10 +48,12 @@ def small_lessons(tmp_path) -> Path:
 
 
 def _outputs(cell) -> tuple[str, str, set]:
-    """A code cell's printed text, its HTML and the kinds of data it showed."""
+    """A code cell's printed text, its HTML and the kinds of data it showed (``stderr`` among them if it wrote there)."""
     text, html, kinds = "", "", set()
     for output in cell.get("outputs", []):
         text += output.get("text", "")
+        if output.get("name") == "stderr":
+            kinds.add("stderr")
         data = output.get("data", {})
         text += data.get("text/plain", "")
         html += data.get("text/html", "")
@@ -59,14 +61,18 @@ def _outputs(cell) -> tuple[str, str, set]:
     return text, html, kinds
 
 
-def test_the_example_notebook_runs_headless_and_shows_two_independent_views():
+def test_the_example_notebook_runs_headless_and_shows_two_independent_views(tmp_path):
     nbformat = _need("nbformat")
     nbclient = _need("nbclient")
     notebook = nbformat.read(NOTEBOOK, as_version=4)
+    # run where a teacher's copy of it runs, outside the repository: it finds the lessons beside phonglab
     client = nbclient.NotebookClient(notebook, timeout=600, kernel_name="python3",
-                                     resources={"metadata": {"path": str(NOTEBOOK.parent)}})
+                                     resources={"metadata": {"path": str(tmp_path)}})
     client.execute()
     cells = [_outputs(c) for c in notebook.cells if c.cell_type == "code"]
+    # a warning in a view's cell (IPython's about a bare iframe) reads to a student as an error
+    written = [text for text, _, kinds in cells if "stderr" in kinds]
+    assert not written, f"cells wrote to stderr: {written}"
     views = [html for _, html, _ in cells if "<iframe" in html]
     ports = [re.search(r'src="http://localhost:(\d+)/index\.html', html) for html in views]
     assert len(views) == 2 and all(ports), f"expected two views, each an iframe on its own port:\n{views}"
@@ -112,6 +118,20 @@ def test_a_bad_setting_names_the_field(small_lessons):
             show(small_lessons / "01-sphere.md", material__ks=-3)
 
     asyncio.run(make())
+
+
+def test_a_misspelled_lesson_is_named_with_the_lessons_that_come_close(small_lessons):
+    _need("IPython")
+    from phonglab.app.jupyter import show
+
+    with pytest.raises(FileNotFoundError) as raised:
+        show(small_lessons / "01-spere.md")
+    message = str(raised.value)
+    assert "no such lesson or scene file" in message and "01-spere.md" in message, message
+    assert f"did you mean {str(small_lessons / '01-sphere.md')!r}?" in message, message
+    assert "\n" not in message and "has errors" not in message, message
+    with pytest.raises(FileNotFoundError, match="there is no folder"):
+        show(small_lessons / "nowhere" / "01-sphere.md")
 
 
 # ---------------------------------------------------------------------------

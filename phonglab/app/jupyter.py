@@ -67,10 +67,13 @@ class LessonView:
 
         from phonglab.app.lesson_app import LessonApp
 
+        target = Path(target)
+        if not target.exists():
+            raise FileNotFoundError(_missing(target))
         self.name = f"phonglab_notebook_{next(_names)}"
         self.height = height
         server = get_server(self.name, client_type="vue3")
-        self.app = LessonApp(server, target=Path(target))
+        self.app = LessonApp(server, target=target)
         if self.app.scene is None:
             problems = "; ".join(self.app.entry.errors) if self.app.entry is not None else "no scene"
             raise ValueError(f"{target}: the lesson has errors: {problems}")
@@ -145,7 +148,9 @@ class LessonView:
 
     def _repr_html_(self) -> str:
         attributes = " ".join(f'{key}="{value}"' for key, value in self._iframe().items())
-        return f"<iframe {attributes}></iframe>"
+        # in a block of its own: IPython warns about HTML that is a bare iframe, in every cell that shows one
+        return f'<div class="phonglab-cell"><iframe {attributes}></iframe></div>'
+
 
     def _ipython_display_(self) -> None:
         """The cell's iframe, once the server listens.
@@ -195,6 +200,22 @@ class LessonView:
         if loop is not None:
             loop.create_task(self.app.server.stop())
         self.app.close()
+
+
+def _missing(target: Path) -> str:
+    """Why ``target`` cannot be shown: it does not exist; the names beside it that come close, if any."""
+    import difflib
+
+    folder = target.parent if target.parent.is_dir() else None
+    names = sorted(p.name for p in folder.iterdir() if p.suffix in (".md", ".toml")) if folder else []
+    close = difflib.get_close_matches(target.name, names, n=3, cutoff=0.6)
+    if close:
+        hint = "did you mean " + " or ".join(repr(str(folder / name)) for name in close) + "?"
+    elif folder is None:
+        hint = f"there is no folder {str(target.parent)!r} either (the notebook runs in {str(Path.cwd())!r})"
+    else:
+        hint = f"{str(folder)!r} holds {len(names)} lesson and scene files"
+    return f"no such lesson or scene file: {str(target)!r}; {hint}"
 
 
 def show(lesson_or_scene, /, *, height: int = HEIGHT, **settings) -> LessonView:
