@@ -74,6 +74,7 @@ class LessonView:
         self.height = height
         server = get_server(self.name, client_type="vue3")
         self.app = LessonApp(server, target=target)
+        self.app.state.in_cell = True  # the view beside the controls in the cell's frame, however narrow
         if self.app.scene is None:
             problems = "; ".join(self.app.entry.errors) if self.app.entry is not None else "no scene"
             raise ValueError(f"{target}: the lesson has errors: {problems}")

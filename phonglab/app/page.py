@@ -69,6 +69,7 @@ def initial_state() -> dict:
         "url_query": "",  # the address of the view shown (app/address.py)
         "url_request": None,  # the address the page was opened with
         "page_ready": False,  # the lesson the address names is open: until then the page shows it is loading
+        "in_cell": False,  # shown in a notebook cell (app/jupyter.py): the view beside the controls at every width
         "view_colors": None,
         "pixel_src": "",
         "pixel_pending": False,  # a newer per-pixel picture is being made (app/pixel_picture.py)
@@ -208,7 +209,8 @@ class _Page:
                             v3.VIcon("mdi-alert-circle-outline", color="error", v_if="!item.ok", size="small")
             with v3.VMain(classes="phonglab-main"):
                 # the page's lesson, with its address's settings, from its first drawn frame: nothing before
-                with html.Div(classes="phonglab-grid", v_if="page_ready"):
+                with html.Div(classes=("in_cell ? 'phonglab-grid phonglab-in-cell' : 'phonglab-grid'",),
+                              v_if="page_ready"):
                     self._lesson_column()
                     self._view_column()
                     self._control_column()

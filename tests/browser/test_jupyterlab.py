@@ -58,8 +58,18 @@ def _kernel_idle(api: str) -> bool:
     return any(s.get("kernel", {}).get("execution_state") == "idle" for s in sessions)
 
 
+#: the boxes of the view and of the shininess slider in the cell's frame, and the frame's size
+SIDE_BY_SIDE_JS = """() => {
+  const box = (s) => { const b = document.querySelector(s).getBoundingClientRect();
+                       return { left: b.left, top: b.top, right: b.right, bottom: b.bottom }; };
+  return { view: box('.phonglab-view'), slider: box('.phonglab-control-material__shininess__log [role=slider]'),
+           width: innerWidth, height: innerHeight };
+}"""
+
+
 def test_a_notebook_cell_shows_the_lesson_view_and_a_slider_changes_the_picture(browser, jupyterlab):
-    context = browser.new_context(viewport={"width": 1400, "height": 1000})
+    # a laptop's window, JupyterLab's file browser open: the cell's frame is about 830 px wide
+    context = browser.new_context(viewport={"width": 1280, "height": 900})
     page = context.new_page()
     errors = []
     page.on("pageerror", lambda e: errors.append(str(e)))
@@ -81,6 +91,13 @@ def test_a_notebook_cell_shows_the_lesson_view_and_a_slider_changes_the_picture(
         inner.evaluate("() => { window.__phonglabBench.selector = '.phonglab-view canvas'; }")
         inner.wait_for_function("() => { const b = window.__phonglabBench; return b.last !== 0 && b.stable >= 10; }",
                                 timeout=120_000)
+        # the view and the slider side by side in the cell's frame, both in sight: in one column the
+        # controls came a page below the view, and no slider could be moved while watching the picture
+        boxes = inner.evaluate(SIDE_BY_SIDE_JS)
+        view, slider, height = boxes["view"], boxes["slider"], boxes["height"]
+        assert slider["left"] >= view["right"] - 1 and slider["bottom"] <= height and view["bottom"] <= height, (
+            f"in a frame {boxes['width']} x {height} px the view {view} and the shininess slider {slider} "
+            "are not side by side in sight")
         before_hash = inner.evaluate("() => window.__phonglabBench.hash()")
         before = inner.evaluate("() => window.trame.state.get('material__shininess__log')")
         thumb = frame.locator(".phonglab-control-material__shininess__log [role=slider]").first
