@@ -1,7 +1,8 @@
 """The lesson page at the window sizes students have, on every lesson of ``lessons/``.
 
 Sizes: the two commonest laptop screens (1280x800, 1366x768), half a laptop
-screen beside notes (800x900) and a desktop (1920x1080). On each lesson, at
+screen beside notes (800x900), a desktop (1920x1080) and a small laptop or a
+projector (1024x768, where the text column is narrowest). On each lesson, at
 each size:
 
 * the page never scrolls sideways;
@@ -28,7 +29,7 @@ from phonglab.bench.ui import log_tail
 
 LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 SLUGS = sorted(p.stem for p in LESSONS.glob("*.md") if p.stem[:2].isdigit())
-SIZES = [(1280, 800), (1366, 768), (800, 900), (1920, 1080)]
+SIZES = [(1280, 800), (1366, 768), (800, 900), (1920, 1080), (1024, 768)]
 #: formulas are at least this fraction of the lesson text's font size
 MIN_FORMULA = 0.9
 #: the smallest scale formulas.js gives a formula before it breaks it into lines (its MIN_SCALE)
