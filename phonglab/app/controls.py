@@ -448,6 +448,8 @@ def _view_switch(path: str, label: str, option: str) -> Control:
 MISTAKE_SWITCH = _view_switch("view.mistake", "show the mistake", "mistake")
 #: the switch that shows the scene under Phong and under Cook–Torrance below the view (a view option)
 COMPARE_SWITCH = _view_switch("view.compare", "Phong beside Cook–Torrance", "compare")
+#: the switch that hides the arrows at the probe, to see the surface under them (a view option)
+ARROWS_SWITCH = _view_switch("view.arrows_hidden", "hide the arrows", "arrows_hidden")
 
 
 #: a control that reads the view options, not the scene: read again for every scene

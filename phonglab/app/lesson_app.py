@@ -65,6 +65,8 @@ log = logging.getLogger(__name__)
 PIXEL_SIZE = (960, 720)
 #: seconds between sending a view update and refreshing the panels (lets the update leave first)
 PANEL_DELAY = 0.004
+#: the arrows the view draws at the probe, unless the student hides them (``view.arrows_hidden``)
+ARROWS = "NLRVH"
 
 
 # the lesson list: titles, numbers and problems as the scene layer reads them
@@ -134,7 +136,7 @@ class LessonApp(ViewInput, TrameApp):
         good = [e for e in self.entries if e.ok]
         if good:
             start = self.entries[first] if self.entries[first].ok else good[0]
-            self.view = SceneView(start.scene, size=PIXEL_SIZE, labels=False, vtk_text=False)
+            self.view = SceneView(start.scene, size=PIXEL_SIZE, vectors=ARROWS, labels=False, vtk_text=False)
         window = self.view.render_window if self.view is not None else SceneView.empty_window()
         self.ui, self.html_view = page.build_page(self.server, window, page.Handlers(
             open_lesson=self._open_from_list,
@@ -210,7 +212,7 @@ class LessonApp(ViewInput, TrameApp):
         s.has_model_control = bool(lesson and "model" in lesson.controls)
         s.update(shared.lesson_texts(lesson))
         self._mistake = s.mistake = self._mistake_info()
-        extra = {"view__compare": ctl.COMPARE_SWITCH}
+        extra = {"view__compare": ctl.COMPARE_SWITCH, "view__arrows_hidden": ctl.ARROWS_SWITCH}
         if self._mistake and self._mistake.get("available"):
             extra["view__mistake"] = ctl.MISTAKE_SWITCH
         self.controls = ctl.ControlSet(ctl.Frame.of_camera(entry.scene.camera),
@@ -268,6 +270,9 @@ class LessonApp(ViewInput, TrameApp):
             self.options = address.turned(self.options, turned)
             self._camera_moved = self._camera_moved or turned
         self.view.update(scene, keep_view_angle=turned, scene_plan=self._planned(scene))
+        arrows = "" if self.options.get("arrows_hidden") else ARROWS
+        if self.view.vectors != arrows:  # hidden to see the surface under them, or shown again
+            self.view.set_vectors(arrows)
         if new_lesson and self._camera_moved and not turned:
             # the browser turned the view: back to the lesson's camera
             self.view.reset_camera()
@@ -439,8 +444,10 @@ class LessonApp(ViewInput, TrameApp):
                 self.notify("error", f"Refused: {exc}. The previous value stays.")
                 self.state[key] = current
                 return
-            # only colours changed: they alone go to the browser (in pixel mode too, for the mesh under the picture)
-            colours_only = Scene.changes(self.scene, scene).colours_only
+            # only colours changed: they alone go to the browser (in pixel mode too, for the mesh under the picture);
+            # arrows hidden or shown again change the scene the browser draws
+            colours_only = (Scene.changes(self.scene, scene).colours_only
+                            and bool(options.get("arrows_hidden")) == bool(self.options.get("arrows_hidden")))
             self.options = options
             self._show_scene(scene, colours_only=colours_only, defer_panels=True)
             if isinstance(self.state.notice, dict) and self.state.notice.get("kind") == "error":

@@ -280,6 +280,14 @@ class _Page:
                                    title=("v.meaning",)):
                         html.Span("", classes="phonglab-swatch", style=("{background: v.color}",))
                         html.B("{{ v.letter }}")
+                    # the arrows off and on again: a highlight at the probe lies under them
+                    hide = "view__arrows_hidden ? 'Show the arrows' : 'Hide the arrows, to see the surface under them'"
+                    with html.Button(type="button", classes="phonglab-chip phonglab-arrows-toggle",
+                                     click="view__arrows_hidden = !view__arrows_hidden", title=(hide,),
+                                     aria_label=(hide,), aria_pressed=("view__arrows_hidden ? 'true' : 'false'",),
+                                     __properties=[("aria_label", "aria-label"), ("aria_pressed", "aria-pressed")]):
+                        v3.VIcon(icon=("view__arrows_hidden ? 'mdi-eye-off-outline' : 'mdi-eye-outline'",), size="small")
+                        html.Span("arrows hidden", v_if="view__arrows_hidden")
                 with html.Div(classes="phonglab-tools"):
                     with v3.VBtnToggle(v_model=("view__term",), mandatory=True, density="compact",
                                        variant="outlined", divided=True, classes="phonglab-term-toggle"):
@@ -295,6 +303,7 @@ class _Page:
                             variant=("view__compare ? 'flat' : 'tonal'",), color="primary",
                             click="view__compare = !view__compare", classes="phonglab-compare-toggle",
                             aria_pressed=("view__compare ? 'true' : 'false'",),
+                            __properties=[("aria_pressed", "aria-pressed")],
                             title="Show this scene under Phong and under Cook–Torrance, side by side")
             with html.Div(classes="phonglab-view"):
                 with vtk_widgets.VtkLocalView(

@@ -441,6 +441,11 @@ class SceneView(ViewPictures):
         window.AddRenderer(vtk.vtkRenderer())
         return window
 
+    @property
+    def vectors(self) -> str:
+        """The letters of the arrows asked for, in drawing order (``""``: none)."""
+        return self._arrows.letters
+
     def set_vectors(self, vectors) -> None:
         """Choose which of N, L, R, V, H are drawn (``"NLRVH"``, ``"N,L"``, None)."""
         self._arrows.letters = glyphs.parse_vectors(vectors)

@@ -75,3 +75,28 @@ def test_the_views_tools_leave_the_scene_uncovered_when_it_is_turned(tab):
       return { x, y, inView: !!(e && e.closest('.phonglab-view')), button: !!(e && e.closest('button, .v-btn')) };
     }""")
     assert on_top is None or (on_top["inView"] and not on_top["button"]), on_top
+
+
+@pytest.mark.parametrize("tab", [(1366, 768)], indirect=True, ids=["1366"])
+def test_the_arrows_switch_hides_the_arrows_and_their_letters_and_brings_them_back(tab):
+    # lesson 13's "Smooth" asks about a highlight under the V marker: the switch beside the legend hides the
+    # arrows, keyboard-reachable and saying what it does
+    _open(tab, "13-physically-based")
+    page = tab.page
+    switch = page.locator("button.phonglab-arrows-toggle")
+    assert switch.get_attribute("aria-pressed") == "false" and "Hide the arrows" in switch.get_attribute("aria-label")
+    letters = "() => Array.from(document.querySelectorAll('.phonglab-letters > *')).filter((e) => e.checkVisibility()).length"
+    picture = tab.state("pixel_src")
+    assert page.evaluate(letters) >= 3 and len(tab.state("legend")) == 5, (page.evaluate(letters), tab.state("legend"))
+    switch.focus()
+    page.keyboard.press("Enter")
+    page.wait_for_function("() => window.trame.state.get('view__arrows_hidden') === true", timeout=30_000)
+    page.wait_for_function("(p) => window.trame.state.get('pixel_src') !== p && !window.trame.state.get('pixel_pending')",
+                           arg=picture, timeout=60_000)
+    tab.wait_settled()
+    assert page.evaluate(letters) == 0 and tab.state("legend") == [], (page.evaluate(letters), tab.state("legend"))
+    assert switch.get_attribute("aria-pressed") == "true" and "arrows hidden" in switch.inner_text()
+    switch.click()
+    page.wait_for_function("() => (window.trame.state.get('legend') || []).length === 5", timeout=60_000)
+    tab.wait_settled()
+    assert switch.get_attribute("aria-pressed") == "false"
