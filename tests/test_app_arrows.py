@@ -55,6 +55,14 @@ def test_hiding_the_arrows_takes_them_from_the_scene_the_picture_and_the_legend_
         assert len(differ), "the per-pixel picture still shows the arrows"
         query = app.state[address.QUERY_KEY]
         assert "view.arrows_hidden=" in query, query
+        # the address opens the view with the arrows hidden (a link a teacher hands out)
+        app.open_lesson(0)
+        assert _letters(app) == (legend, tips), "a lesson opened again should show its arrows"
+        app.state[address.REQUEST_KEY] = query
+        app._on_address()
+        app._later.run_waiting()
+        assert app.state.notice is None, (query, app.state.notice)
+        assert _letters(app) == ([], []) and np.array_equal(_picture(app), without), (query, _letters(app))
 
         app._on_control(KEY, False)
         app._later.run_waiting()
