@@ -152,7 +152,6 @@ class LessonView:
         # in a block of its own: IPython warns about HTML that is a bare iframe, in every cell that shows one
         return f'<div class="phonglab-cell"><iframe {attributes}></iframe></div>'
 
-
     def _ipython_display_(self) -> None:
         """The cell's iframe, once the server listens.
 

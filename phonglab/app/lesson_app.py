@@ -55,6 +55,7 @@ from phonglab.app.later import Later
 from phonglab.app.pixel_picture import PixelPicture
 from phonglab.app.timing import Stopwatch, record_lap
 from phonglab.render import SceneView, pixel_job
+from phonglab.render.options import VECTOR_LETTERS
 from phonglab.render.translucency import translucent
 from phonglab.scene import Scene, SceneError, load_lesson, load_scene, plan
 from phonglab.scene.loader import lesson_files
@@ -65,8 +66,6 @@ log = logging.getLogger(__name__)
 PIXEL_SIZE = (960, 720)
 #: seconds between sending a view update and refreshing the panels (lets the update leave first)
 PANEL_DELAY = 0.004
-#: the arrows the view draws at the probe, unless the student hides them (``view.arrows_hidden``)
-ARROWS = "NLRVH"
 
 
 # the lesson list: titles, numbers and problems as the scene layer reads them
@@ -136,7 +135,7 @@ class LessonApp(ViewInput, TrameApp):
         good = [e for e in self.entries if e.ok]
         if good:
             start = self.entries[first] if self.entries[first].ok else good[0]
-            self.view = SceneView(start.scene, size=PIXEL_SIZE, vectors=ARROWS, labels=False, vtk_text=False)
+            self.view = SceneView(start.scene, size=PIXEL_SIZE, labels=False, vtk_text=False)
         window = self.view.render_window if self.view is not None else SceneView.empty_window()
         self.ui, self.html_view = page.build_page(self.server, window, page.Handlers(
             open_lesson=self._open_from_list,
@@ -270,9 +269,10 @@ class LessonApp(ViewInput, TrameApp):
             self.options = address.turned(self.options, turned)
             self._camera_moved = self._camera_moved or turned
         self.view.update(scene, keep_view_angle=turned, scene_plan=self._planned(scene))
-        arrows = "" if self.options.get("arrows_hidden") else ARROWS
+        arrows = "" if self.options.get("arrows_hidden") else VECTOR_LETTERS
         if self.view.vectors != arrows:  # hidden to see the surface under them, or shown again
             self.view.set_vectors(arrows)
+            colours_only = False  # the scene the browser draws lost or got back its arrows
         if new_lesson and self._camera_moved and not turned:
             # the browser turned the view: back to the lesson's camera
             self.view.reset_camera()
@@ -444,10 +444,8 @@ class LessonApp(ViewInput, TrameApp):
                 self.notify("error", f"Refused: {exc}. The previous value stays.")
                 self.state[key] = current
                 return
-            # only colours changed: they alone go to the browser (in pixel mode too, for the mesh under the picture);
-            # arrows hidden or shown again change the scene the browser draws
-            colours_only = (Scene.changes(self.scene, scene).colours_only
-                            and bool(options.get("arrows_hidden")) == bool(self.options.get("arrows_hidden")))
+            # only colours changed: they alone go to the browser (in pixel mode too, for the mesh under the picture)
+            colours_only = Scene.changes(self.scene, scene).colours_only
             self.options = options
             self._show_scene(scene, colours_only=colours_only, defer_panels=True)
             if isinstance(self.state.notice, dict) and self.state.notice.get("kind") == "error":
