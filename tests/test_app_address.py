@@ -92,6 +92,32 @@ CHANGES = [
 ]
 
 
+
+#: settings a tab's address goes through, each step changing one thing: a file-form field's text (the
+#: widget settings before it are kept), a widget's text, a value the widget refuses and then takes, an
+#: unknown key's text, a light's type
+REOPENED = [
+    [("interpolation", "gouraud"), ("material.shininess", "89.125094")],
+    [("interpolation", "gouraud"), ("material.shininess", "12.5")],
+    [("interpolation", "flat"), ("material.shininess", "12.5")],
+    [("interpolation", "flat"), ("lights[1].intensity", "5")],
+    [("interpolation", "flat"), ("lights[1].intensity", "0.5")],
+    [("nonsense.key", "1"), ("material.shininess", "20")],
+    [("nonsense.key", "2"), ("material.shininess", "20")],
+    [("material.shininess", "40"), ("lights[1].type", "spot"), ("lights[1].exponent", "12.5")],
+    [("material.shininess", "41"), ("lights[1].type", "spot"), ("lights[1].exponent", "12.5")],
+    [("material.shininess", "41"), ("lights[1].type", "point"), ("lights[1].exponent", "12.5")],
+]
+
+
+def test_a_tab_reopens_each_address_as_a_fresh_tab_does_though_it_keeps_what_the_last_one_shared():
+    kept = address.ViewAddress()
+    controls = _controls(SPECULAR)
+    for settings in REOPENED:
+        scene, options, problems = kept.reopen(SPECULAR, settings, controls)
+        fresh = address.apply_settings(settings, SPECULAR.scene, dict(address.DEFAULT_OPTIONS), _controls(SPECULAR))
+        assert (scene_to_dict(scene), options, problems) == (scene_to_dict(fresh[0]), fresh[1], fresh[2]), settings
+
 def test_the_address_carries_every_changed_setting_and_reopens_the_same_view():
     scene, options, controls = _change(SPECULAR, CHANGES)
     query = address.ViewAddress().query(SPECULAR, scene, options, controls)

@@ -313,6 +313,12 @@ def _stands_for(field: str, setting: str) -> bool:
 _UNREAD = object()
 
 
+def _keep_last(kept: dict, count: int) -> None:
+    """Forget the oldest entries of ``kept`` (insertion order) past ``count``."""
+    while len(kept) > count:
+        kept.pop(next(iter(kept)))
+
+
 class ViewAddress:
     """The address of one tab's view: the lesson plus the settings that differ from the lesson's.
 
@@ -329,6 +335,8 @@ class ViewAddress:
         self._defaults: dict = {}
         # (lesson scene id, settings) -> [what they open, its file-form fields once asked]: the last few kept
         self._reopened: dict = {}
+        # (lesson scene id, setting paths) -> ({index: text read}, what the widget settings gave): the last few
+        self._widget_steps: dict = {}
 
     def _reference_scene(self, entry, controls, types) -> object:
         """The lesson's scene with the light ``types`` (``[(path, text)]``) applied: what the other settings differ from."""
@@ -396,11 +404,35 @@ class ViewAddress:
         """``[reopen(...), its scene's file-form fields or None until asked]`` for ``settings``."""
         key = (id(entry.scene), tuple(settings))
         if key not in self._reopened:
-            scratch = type(controls)(controls.frame, controls.lesson_paths, controls.extra)
-            self._reopened[key] = [apply_settings(settings, entry.scene, dict(DEFAULT_OPTIONS), scratch), None]
-            while len(self._reopened) > 8:
-                self._reopened.pop(next(iter(self._reopened)))
+            self._reopened[key] = [self._reopen(entry, settings, controls), None]
+            _keep_last(self._reopened, 8)
         return self._reopened[key]
+
+    def _reopen(self, entry, settings, controls):
+        """:func:`apply_settings` of ``settings`` on the lesson's scene, in a fresh tab's controls.
+
+        A slider step usually changes one file-form field's text (the shininess
+        of a lesson that shows no shininess slider): the widget settings before
+        the fields are then the same as the last time, and only the fields are
+        applied again on the scene they gave (:func:`_widget_settings` says
+        which texts it read; the others it leaves for :func:`_apply_fields`).
+        """
+        paths = tuple(path for path, _ in settings)
+        shape = (id(entry.scene), paths)
+        seen = self._widget_steps.get(shape)
+        if seen is None or any(settings[i][1] != text for i, text in seen[0].items()):
+            scratch = type(controls)(controls.frame, controls.lesson_paths, controls.extra)
+            scene, options, problems, fields, read = _widget_settings(settings, entry.scene, dict(DEFAULT_OPTIONS),
+                                                                     scratch)
+            seen = ({i: settings[i][1] for i in read}, (scene, options, problems, fields))
+            self._widget_steps[shape] = seen
+            _keep_last(self._widget_steps, 8)
+        scene, options, problems, fields = seen[1]
+        options, problems = dict(options), list(problems)
+        if fields:
+            scene, refusals = _apply_fields(scene, [(path, settings[i][1], refused) for i, path, _, refused in fields])
+            problems += refusals
+        return scene, options, problems
 
     def _reopened_differ(self, entry, settings, controls, fields) -> list[str]:
         """:func:`differing_fields` of the scene with ``fields`` and what ``settings`` reopen (its fields kept with it)."""
@@ -549,30 +581,47 @@ def apply_settings(pairs, scene, options, controls):
     scene, options, problems
         The new scene and options; one line per refused value or unknown key.
     """
+    scene, options, problems, fields, _ = _widget_settings(pairs, scene, options, controls)
+    if fields:
+        scene, refusals = _apply_fields(scene, [field[1:] for field in fields])
+        problems += refusals
+    return scene, options, problems
+
+
+def _widget_settings(pairs, scene, options, controls):
+    """:func:`apply_settings` up to the file-form fields: the widget settings applied, the fields gathered.
+
+    Returns ``scene, options, problems, fields, read``: ``fields`` are
+    ``(index in pairs, path, text, the widget's refusal or None)`` in the
+    order to apply them; ``read`` the indices of ``pairs`` whose text this
+    step read. A field no widget refused is the only setting it leaves unread:
+    its text waits for :func:`_apply_fields`, so settings that differ only in
+    such texts come this far alike (:meth:`ViewAddress.reopen` keeps it).
+    """
     options = dict(options)
     problems = []
-    fields = []  # (path, text, the widget's refusal or None)
-    ordered = sorted(pairs, key=lambda pair: not pair[0].endswith(".type"))  # stable: address order kept
-    for path, text in ordered:
+    fields = []
+    read = set()
+    order = sorted(range(len(pairs)), key=lambda i: not pairs[i][0].endswith(".type"))  # stable: address order
+    for index in order:
+        path, text = pairs[index]
         controls.update(scene)
         control = _control(controls, path)
         refused = None
         if control is not None and control.kind != "value" and path != "lesson":
+            read.add(index)
             try:
                 scene, options = control.apply(scene, parse_setting(control, text), options)
                 continue
             except ControlError as exc:
                 refused = (control, exc)
         if _has_field(scene, path):
-            fields.append((path, text, refused))
-        elif refused is not None:
-            problems.append(wording.refusal(path, text, *refused))
+            fields.append((index, path, text, refused))
         else:
-            problems.append(wording.unknown_setting(path, text))
-    if fields:
-        scene, refusals = _apply_fields(scene, fields)
-        problems += refusals
-    return scene, options, problems
+            read.add(index)
+            problems.append(wording.unknown_setting(path, text) if refused is None
+                            else wording.refusal(path, text, *refused))
+    return scene, options, problems, fields, read
 
 
 def _apply_fields(scene, fields):

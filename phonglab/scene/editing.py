@@ -79,12 +79,16 @@ def replace_fields(scene, settings):
     The settings are applied in order to the scene's table and the result is
     checked as a whole, so an experiment may move the eye and the up vector
     together, or turn a point light into a spotlight and set its cone, with no
-    half-done state checked in between. Errors are as in :func:`replace_field`.
+    half-done state checked in between; settings all inside one part (the
+    material, the camera, one light) build only that part again, as
+    :func:`replace_field` does. Errors are as in :func:`replace_field`.
     """
     data = scene_to_dict(scene)
+    parts = set()
     for path, value in settings:
         _assign(data, path, value)
-    return _build(scene, data)
+        parts.add(_edited_part(path))
+    return _build(scene, data, parts.pop() if len(parts) == 1 else None)
 
 
 def settings_problems(scene, settings) -> list[tuple[str | None, SceneError]]:
