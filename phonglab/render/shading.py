@@ -34,7 +34,7 @@ from phonglab.core.display import display_bytes, display_values
 from phonglab.render import shadows
 from phonglab.render.gbuffer import GBuffer
 from phonglab.render.mesh import face_centroids_normals
-from phonglab.render.objects import cell_objects, point_objects
+from phonglab.render.objects import OBJECT_ARRAY, cell_objects, point_objects
 
 #: what a view can show: one term of the sum, or the whole colour
 TERMS = ("color", "ambient", "diffuse", "specular")
@@ -154,9 +154,31 @@ def vertex_colors(scene, mesh, terms=("color",), mistake: str | None = None, *,
 
     ``scene_plan``: ``plan(scene)`` if the caller has it (see :func:`shade`).
     """
-    shading = shade(scene, np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"]), mistake,
-                    scene_plan=scene_plan, objects=point_objects(mesh), cache=("vertex",))
+    points, normals, objects = _vertices(mesh)
+    shading = shade(scene, points, normals, mistake, scene_plan=scene_plan, objects=objects, cache=("vertex",))
     return {t: display_rgb8(scene, term_of(shading, t)) for t in terms}
+
+
+#: the last mesh's points, normals and objects as NumPy arrays: (key, arrays); see :func:`_vertices`
+_last_vertices: list = [None, None]
+
+
+def _vertices(mesh):
+    """The mesh's points, point normals and point objects, remembered for the last mesh while they stay.
+
+    A slider step re-shades the same vertices: reading them through PyVista
+    again cost more than a tenth of a millisecond per step. VTK's modification
+    times tell when they changed (the colour arrays the view writes into the
+    same point data do not count).
+    """
+    data = mesh.GetPointData()
+    normals, ids = data.GetArray("Normals"), data.GetArray(OBJECT_ARRAY)
+    key = (id(mesh), mesh.GetPoints().GetMTime(), normals.GetMTime() if normals is not None else None,
+           ids.GetMTime() if ids is not None else None, mesh.n_points)
+    if _last_vertices[0] != key:
+        _last_vertices[:] = [key, (np.asarray(mesh.points), np.asarray(mesh.point_data["Normals"]),
+                                   point_objects(mesh))]
+    return _last_vertices[1]
 
 
 #: the last mesh's face centroids and normals: (key, (centroids, normals)); see :func:`_faces`
