@@ -471,18 +471,32 @@ class ServerPress(KeyPress):
     starts from a quiet server and ends when the page shows the pushed
     colours, the server has recorded the update and gone quiet again; its
     time is key press to colours shown (measured here, not in the page).
+
+    The presses sweep the slider one way, then back from its end, so each
+    brings a value the tab has not shown lately, as a drag's steps do. (Going
+    back and forth between two values, as the other pages' presses do, lets
+    whatever the server keeps for a value it had answer the press.)
     """
+
+    #: turn back this far (in the slider's units) before the slider's end
+    MARGIN = 0.1
 
     def step(self) -> float:
         page = self.page
         pause(page)
-        page.locator(self.slider).first.focus()
+        slider = page.locator(self.slider).first
+        slider.focus()
         self.wait_quiet()
+        now, low, high = (float(slider.get_attribute(f"aria-value{end}") or "nan") for end in ("now", "min", "max"))
+        if now >= high - self.MARGIN:
+            self._back = True
+        elif now <= low + self.MARGIN:
+            self._back = False
         shown = page.evaluate("() => (window.trame.state.get('view_colors') || {}).hash || null")
         records = self.records()
         cpu = self.server_cpu()
         start = time.perf_counter()
-        page.keyboard.press("ArrowRight" if self._presses % 2 == 0 else "ArrowLeft")
+        page.keyboard.press("ArrowLeft" if getattr(self, "_back", False) else "ArrowRight")
         self._presses += 1
         page.wait_for_function(_NEW_COLOURS_SHOWN, arg=shown, timeout=30_000)
         latency = (time.perf_counter() - start) * 1000.0
