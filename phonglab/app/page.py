@@ -296,14 +296,19 @@ class _Page:
                                     classes=f"phonglab-term-{value}")
                     with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
                                        variant="outlined", divided=True, classes="phonglab-pick-toggle"):
-                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target")
-                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline")
+                        # named for a screen reader and a tooltip too: a narrow bar shows their icons alone
+                        v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target",
+                                aria_label="Probe", title="A click on the view moves the probe",
+                                __properties=[("aria_label", "aria-label")])
+                        v3.VBtn("Light", value="light", size="small", prepend_icon="mdi-lightbulb-outline",
+                                aria_label="Light", title="A click on the view moves the light",
+                                __properties=[("aria_label", "aria-label")])
                     # the scene under Phong and under Cook–Torrance, side by side below the view
                     v3.VBtn("Compare models", size="small", prepend_icon="mdi-compare", v_if="has_model_control",
                             variant=("view__compare ? 'flat' : 'tonal'",), color="primary",
                             click="view__compare = !view__compare", classes="phonglab-compare-toggle",
-                            aria_pressed=("view__compare ? 'true' : 'false'",),
-                            __properties=[("aria_pressed", "aria-pressed")],
+                            aria_pressed=("view__compare ? 'true' : 'false'",), aria_label="Compare models",
+                            __properties=[("aria_pressed", "aria-pressed"), ("aria_label", "aria-label")],
                             title="Show this scene under Phong and under Cook–Torrance, side by side")
             with html.Div(classes="phonglab-view"):
                 with vtk_widgets.VtkLocalView(

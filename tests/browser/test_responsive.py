@@ -321,3 +321,39 @@ def test_at_1280x800_the_page_fits_the_window_and_the_view_knows_its_size(tab, l
     tab.wait_for_function("(b) => { const s = window.trame.state.get('view_size'); const z = s && (s.size || s);"
                           " return z && Math.abs(z.width - b.width) <= 1 && Math.abs(z.height - b.height) <= 1; }",
                           arg=box, timeout=30_000)
+
+
+@pytest.mark.parametrize("slug", ["04-specular", "06-blinn-phong", "13-physically-based"])
+def test_on_a_laptop_the_view_bar_is_one_row_and_its_buttons_keep_their_names(tab, lessons_server, slug):
+    """At 1366x768 and 1280x800 "Compare models" wrapped the bar onto two rows: 28 px less view on a short screen.
+
+    Where the words do not fit, a button shows its icon alone; it keeps its name (aria-label) and a tooltip.
+    """
+    open_by_address(tab, lessons_server, slug)
+    found = []
+    for width, height in [(1366, 768), (1280, 800), (1920, 1080)]:
+        tab.set_viewport_size({"width": width, "height": height})
+        tab.evaluate(FRAMES)
+        bar = tab.evaluate("""() => {
+          const box = (s) => { const e = document.querySelector(s); return e && e.getBoundingClientRect(); };
+          const legend = box('.phonglab-legend'), tools = box('.phonglab-tools');
+          const buttons = [...document.querySelectorAll('.phonglab-tools .v-btn')].map(b => ({
+            words: (b.querySelector('.v-btn__content') || b).innerText.trim(),
+            shown: !!(b.querySelector('.v-btn__content') || b).getClientRects().length,
+            name: b.getAttribute('aria-label') || (b.querySelector('.v-btn__content') || b).innerText.trim(),
+            title: b.getAttribute('title') || '' }));
+          return {oneRow: tools.top < legend.bottom && legend.top < tools.bottom,
+                  rows: [Math.round(legend.top), Math.round(tools.top)], buttons};
+        }""")
+        if not bar["oneRow"]:
+            found.append(f"{width}x{height}: legend and tools on two rows (tops {bar['rows']})")
+        for b in bar["buttons"]:
+            if not b["name"]:
+                found.append(f"{width}x{height}: a button without a name: {b}")
+            if not b["shown"] and not b["title"]:
+                found.append(f"{width}x{height}: {b['name']!r} shows its icon alone but has no tooltip")
+        if width == 1920:  # room for every word
+            hidden = [b["name"] for b in bar["buttons"] if not b["shown"]]
+            if hidden:
+                found.append(f"{width}x{height}: words hidden though there is room: {hidden}")
+    assert not found, f"{slug}:\n" + "\n".join(found)
