@@ -84,3 +84,25 @@ def test_check_refuses_what_the_page_cannot_show(new_lesson):
     assert f"{new_lesson}:{lines + 2}: text: an image" in done.stdout, done.stdout
     assert f"{new_lesson}:{lines + 4}: text: raw HTML" in done.stdout, done.stdout
     assert "$$ is never closed" in done.stdout, done.stdout
+
+
+def test_a_new_lesson_under_a_number_already_taken_gets_a_note_and_check_reports_the_pair(tmp_path):
+    """Copying 04-specular.md as 04-mine.md listed two lessons "4 · …" in the page, and check passed both."""
+    folder = tmp_path / "lessons"
+    folder.mkdir()
+    (folder / "04-specular.md").write_text((ROOT / "lessons" / "04-specular.md").read_text(encoding="utf-8"),
+                                           encoding="utf-8")
+    done = run_cli("new", "lesson", str(folder / "04-mine.md"))
+    assert done.returncode == 0 and "note: 04-specular.md starts with the same lesson number" in done.stdout, (
+        done.stdout + done.stderr)
+    done = run_cli("check", "--no-claims", str(folder))
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "04-specular.md: number: lesson 4 is also 04-mine.md" in done.stdout, done.stdout
+    assert "1 problem in 1 of 2 files" in done.stderr, done.stderr
+    (folder / "04-mine.md").rename(folder / "15-mine.md")
+    done = run_cli("check", "--no-claims", str(folder))
+    assert done.returncode == 1, done.stdout + done.stderr  # the file's own number = 4 line still says 4
+    (folder / "15-mine.md").write_text((folder / "15-mine.md").read_text(encoding="utf-8").replace(
+        "number = 4", "number = 15"), encoding="utf-8")
+    done = run_cli("check", "--no-claims", str(folder))
+    assert done.returncode == 0, done.stdout + done.stderr

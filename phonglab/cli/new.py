@@ -99,7 +99,7 @@ def add_parser(subparsers):
         description="Write a minimal, valid lesson (checked by phonglab check, opened by phonglab serve).",
     )
     parser.add_argument("kind", choices=KINDS, help="what to write")
-    parser.add_argument("file", metavar="FILE", help="the new lesson, e.g. lessons/12-my-topic.md")
+    parser.add_argument("file", metavar="FILE", help="the new lesson, e.g. lessons/15-my-topic.md")
     parser.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
     return parser
 
@@ -114,6 +114,18 @@ def lesson_text(path) -> str:
     return TEMPLATE.format(number=number, title=title.replace('"', "'"))
 
 
+def _same_number(path: Path):
+    """Another lesson in ``path``'s folder whose file name starts with the same number, or None."""
+    from phonglab.scene import lesson_files
+    from phonglab.scene.lessons import number_from_name
+
+    number = number_from_name(path)
+    if number is None:
+        return None
+    return next((other for other in lesson_files(path.parent)
+                 if other.resolve() != path.resolve() and number_from_name(other) == number), None)
+
+
 def run(args) -> int:
     path = Path(args.file)
     if path.suffix.lower() != ".md":
@@ -126,7 +138,11 @@ def run(args) -> int:
     except OSError as exc:
         raise UsageError(f"FILE: cannot write {args.file}: {exc.strerror}") from None
     print(f"wrote {path}; check it with: phonglab check {path}; open it with: phonglab serve {path}")
+    taken = _same_number(path)
+    if taken:
+        print(f"note: {taken.name} starts with the same lesson number; "
+              "give the new lesson a number of its own (phonglab check reports two lessons under one number)")
     if not re.match(r"\d", path.name):
         print("note: the lesson list shows only files whose name starts with the lesson number, "
-              "e.g. 12-my-topic.md")
+              "e.g. 15-my-topic.md")
     return 0
