@@ -11,7 +11,7 @@ import pytest
 vtk = pytest.importorskip("vtk")
 
 import phonglab as pl  # noqa: E402
-from phonglab.render.view import SceneView  # noqa: E402
+from phonglab.render.view import BACKGROUND, SceneView  # noqa: E402
 from phonglab.bench import scenes  # noqa: E402
 from phonglab.scene import Camera, Geometry, Scene  # noqa: E402
 
@@ -100,17 +100,42 @@ def test_choosing_vectors_hides_the_others(view):
 
 
 def test_light_markers_match_light_kinds(view):
-    view.update(red_sphere(**{"lights[1]": {"type": "spot", "position": [2, 2, 3], "direction": [-2, -2, -3],
-                                             "cutoff": 25}}))
+    # a spot the view takes in whole (one farther out is left out of the picture: the test below)
+    position = np.array([1.3, 0.8, 1.2])
+    view.update(red_sphere(**{"lights[1]": {"type": "spot", "position": position.tolist(),
+                                             "direction": (-position).tolist(), "cutoff": 25}}))
     data, actor = view.glyph_actors.light_markers[1]
     assert actor.GetVisibility()
     pts = np.asarray(data.GetPoints().GetData())
     # a cone: the apex at the light, opening along the axis (away from the light)
-    axis = -np.array([2, 2, 3]) / np.linalg.norm([2, 2, 3])
-    along = (pts - np.array([2, 2, 3])) @ axis
+    axis = -position / np.linalg.norm(position)
+    along = (pts - position) @ axis
     assert along.max() > 0.2 and along.min() > -0.05, f"cone spans {along.min()}..{along.max()} along the axis"
     assert not view.glyph_actors.light_markers[0].actor.GetVisibility(), "the ambient light has a marker"
 
+
+
+def test_a_light_marker_the_view_cannot_take_in_whole_is_left_out_not_cut_at_the_edge(tmp_path):
+    """The torus's directional light: its arrows stuck into the picture's top edge, half drawn, in every export."""
+    from PIL import Image
+
+    from phonglab.render import figure
+    from phonglab.scene import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "assets" / "scenes" / "torus.toml")
+    out = figure(scene, tmp_path / "torus.png", size=(400, 300))
+    with Image.open(out) as img:
+        picture = np.asarray(img.convert("RGB")).astype(int)
+    background = np.rint(np.asarray(BACKGROUND) * 255)
+    edges = {"top": picture[:3], "bottom": picture[-3:], "left": picture[:, :3], "right": picture[:, -3:]}
+    drawn = {side: int((np.abs(band - background).max(axis=-1) > 30).sum()) for side, band in edges.items()}
+    assert not any(drawn.values()), f"pixels drawn at the picture's edges (not background {background}): {drawn}"
+    # and a marker that fits is drawn: the same light from over the eye's shoulder
+    view = SceneView(scene.replace("lights[1].direction", [0.4, -1.0, 1.2]), size=(400, 300))
+    try:
+        assert view.glyph_actors.light_markers[1].actor.GetVisibility(), "the framed marker is hidden"
+    finally:
+        view.close()
 
 def test_eye_marker_only_when_the_camera_leaves_the_eye(view):
     view.render()

@@ -189,6 +189,7 @@ class Glyphs:
             if vtk_text:
                 self.letters[letter] = _letter_actor(renderer, letter, height)
         self.light_markers: list[Glyph] = []
+        self._markers_wanted: set = set()  # the light markers and area panel the scene shows (ids of their actors)
         self.eye = _glyph(renderer)
         self.area_panel = _glyph(renderer)
         self.legend = _legend_actor(renderer, height) if vtk_text else None
@@ -253,23 +254,44 @@ class Glyphs:
             marker = glyphs.light_marker(lights[i], view_direction) if i < len(lights) else None
             if marker is not None:
                 _reshape(glyph, marker)
-            glyph.actor.SetVisibility(marker is not None and visible)
+            self._show_marker(glyph, marker is not None and visible)
+
+    def _show_marker(self, glyph: Glyph, wanted: bool) -> None:
+        if wanted:
+            self._markers_wanted.add(id(glyph.actor))
+        else:
+            self._markers_wanted.discard(id(glyph.actor))
+        glyph.actor.SetVisibility(wanted)
+
+    def _wanted_markers(self) -> list[Glyph]:
+        return [g for g in [*self.light_markers, self.area_panel] if id(g.actor) in self._markers_wanted]
 
     def marker_balls(self) -> list[tuple[np.ndarray, float]]:
-        """``(centre, radius)`` of a ball around each light marker and area panel shown, in world units."""
+        """``(centre, radius)`` of a ball around each light marker and area panel the scene shows, in world units.
+
+        In the order :meth:`frame_markers` takes; a marker left out of the picture by it is counted too.
+        """
         balls = []
-        for glyph in [*self.light_markers, self.area_panel]:
-            if glyph.actor.GetVisibility():
-                x0, x1, y0, y1, z0, z1 = glyph.actor.GetBounds()
-                low, high = np.array([x0, y0, z0]), np.array([x1, y1, z1])
-                balls.append(((low + high) / 2, float(np.linalg.norm(high - low)) / 2))
+        for glyph in self._wanted_markers():
+            x0, x1, y0, y1, z0, z1 = glyph.actor.GetBounds()
+            low, high = np.array([x0, y0, z0]), np.array([x1, y1, z1])
+            balls.append(((low + high) / 2, float(np.linalg.norm(high - low)) / 2))
         return balls
+
+    def frame_markers(self, framed) -> None:
+        """Show the markers of :meth:`marker_balls` whose entry in ``framed`` is true; leave the others out.
+
+        A marker the view angle cannot take in whole is left out of the
+        picture: a piece of one at the window's edge looks like a fault.
+        """
+        for glyph, whole in zip(self._wanted_markers(), framed):
+            glyph.actor.SetVisibility(bool(whole))
 
     def show_area_panel(self, area_light, *, visible: bool) -> None:
         """The area light's panel where it is (hidden for None)."""
         if area_light is not None:
             _reshape(self.area_panel, glyphs.area_light_panel(area_light))
-        self.area_panel.actor.SetVisibility(bool(area_light is not None and visible))
+        self._show_marker(self.area_panel, bool(area_light is not None and visible))
 
     def show_eye(self, scene_camera, vtk_camera, *, visible: bool) -> None:
         """Reshape the eye marker at the scene camera's eye, then :meth:`sync_eye`."""

@@ -499,13 +499,16 @@ class SceneView(ViewPictures):
             [self._arrows.tip(letter) for letter in letters],
             tip_radius=glyphs.TIP_RADIUS, width=width, height=height,
             reach=framing.label_reach(height, letters) if letters and self.show_labels else 0.0)
-        if angle is not None:  # a light's marker near the edge is brought whole into the window
+        if angle is not None:  # a light's marker near the edge is brought whole into the window, or left out
+            framed = []
             for centre, radius in self._glyphs.marker_balls():
                 needed = framing.view_angle_for_tips(
                     camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(), [centre],
                     tip_radius=radius, width=width, height=height, reach=0.0)
-                if needed <= framing.MARKER_WIDENING * self.scene.camera.view_angle:
+                framed.append(needed <= framing.MARKER_WIDENING * self.scene.camera.view_angle)
+                if framed[-1]:
                     angle = max(angle, needed)
+            self._glyphs.frame_markers(framed)
         if angle is not None and camera.GetViewAngle() != angle:
             camera.SetViewAngle(angle)
 
