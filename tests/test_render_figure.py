@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -245,3 +246,21 @@ def test_sweep_values_split_outside_brackets():
 def test_half_width_is_where_the_lobe_halves(alpha):
     phi = math.radians(half_width(alpha))
     assert abs(math.cos(phi) ** alpha - 0.5) < 1e-12, f"alpha {alpha}: cos^a at {half_width(alpha)}°"
+
+
+@pytest.mark.parametrize("lit", [True, False])
+def test_the_incidence_plot_says_when_the_probe_is_in_the_lights_shadow(lit):
+    """Lesson 14's probe lies in the ball's shadow; the plot gave n·l and the specular factor as if it were lit."""
+    import matplotlib.pyplot as plt
+
+    from phonglab.render.plots import make_plot
+    from phonglab.scene import load
+
+    shadowed = load(Path(__file__).resolve().parents[1] / "lessons" / "14-shadows.md").scene
+    fig = make_plot("incidence", shadowed if not lit else shadowed.replace("shadows", False), (1200, 900))
+    try:
+        text = " ".join(t.get_text() for t in fig.texts)
+    finally:
+        plt.close(fig)
+    said = "in shadow" in text and "adds\nno diffuse or specular light" in text
+    assert said != lit, f"shadows {'off' if lit else 'on'}: the plot's text is {text!r}"

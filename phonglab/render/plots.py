@@ -501,6 +501,8 @@ def incidence_plot(scene, size):
             rf"specular factor $\max(0, {cos_symbol})^{{{alpha:g}}}$ = {factor:.3f}",
         ]),
     ]
+    if "lit" in used and not bool(used["lit"]):  # the shadow ray found something between: S = 0
+        blocks[1] += ("\n" + rf"in shadow: $S$ = 0, so this light adds" + "\nno diffuse or specular light here")
     if abs(out_of_plane(v)) > 1.0:
         blocks.append(f"V leaves the plane by {abs(out_of_plane(v)):.1f}°,\nH by {abs(out_of_plane(h)):.1f}°:\n"
                       "V′, H′ are their projections")
