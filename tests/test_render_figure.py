@@ -264,3 +264,18 @@ def test_the_incidence_plot_says_when_the_probe_is_in_the_lights_shadow(lit):
         plt.close(fig)
     said = "in shadow" in text and "adds\nno diffuse or specular light" in text
     assert said != lit, f"shadows {'off' if lit else 'on'}: the plot's text is {text!r}"
+
+
+@pytest.mark.parametrize("path, value, label", [
+    ("material.ks", 0.5, "$k_s$ = 0.5"),
+    ("material.shininess", 32, r"$\alpha$ = 32"),
+    ("material.roughness", 0.1, "roughness = 0.1"),
+    ("lights[1].intensity", 0.5, "light 1 intensity = 0.5"),
+    ("shadow_bias", 0.01, "shadow bias = 0.01"),
+    ("interpolation", "pixel", "pixel"),
+])
+def test_a_sweeps_labels_name_fields_in_words_not_paths(path, value, label):
+    """A roughness series was headed "material.roughness = 0.1" while k_s and α got their symbols."""
+    from phonglab.render.captions import sweep_label
+
+    assert sweep_label(path, value) == label, (path, value)

@@ -8,6 +8,8 @@ mistake cannot show in the scene's interpolation mode.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from phonglab.render import shading
@@ -43,10 +45,26 @@ def plain(value) -> str:
 
 
 def sweep_label(path: str, value) -> str:
-    """How a sweep value is written on the grid: ``$k_s$ = 0.5``, ``pixel``."""
+    """How a sweep value is written on the grid: ``$k_s$ = 0.5``, ``roughness = 0.1``, ``pixel``."""
     if path in NAMED_FIELDS and isinstance(value, str):
         return value
-    return f"{FIELD_SYMBOLS.get(path, path)} = {plain(value)}"
+    return f"{field_name(path)} = {plain(value)}"
+
+
+def field_name(path: str) -> str:
+    """A field as a figure names it: its symbol (``$k_s$``), or words (``roughness``, ``light 1 intensity``).
+
+    Paths the figure has no words for are written as they are.
+    """
+    if path in FIELD_SYMBOLS:
+        return FIELD_SYMBOLS[path]
+    light = re.fullmatch(r"lights\[(\d+)\]\.([a-z_]+)", path)
+    if light:
+        return f"light {light.group(1)} {light.group(2).replace('_', ' ')}"
+    part = re.fullmatch(r"(?:material|camera)\.([a-z_]+)", path)
+    if part:
+        return part.group(1).replace("_", " ")
+    return path.replace("_", " ") if re.fullmatch(r"[a-z_]+", path) else path
 
 
 def wrong_term_labels(mistake: str, spec: str = r"\max(0,\,r\cdot v)") -> dict[str, str]:
