@@ -87,6 +87,13 @@ def test_the_check_language_refuses(check):
         parse_check(check)
 
 
+
+def test_a_misspelled_function_is_named_with_the_one_meant():
+    """'peek(...)' listed all thirty functions; a field's typo already got a did-you-mean."""
+    with pytest.raises(SceneError) as caught:
+        parse_check("peek('specular') > 0.5")
+    assert str(caught.value).endswith('got "peek"; did you mean "peak"?'), str(caught.value)
+
 def test_the_check_language_accepts_the_documented_forms():
     for check in ["abs(pow(0.9, 10) - 0.35) < 0.005", "0 < probe('nl') <= 1 and not peak('color', 'r') > 9",
                   "vertices(128) / vertices(16) > 60", "error('pixel', 16, 'rmse') < 2 * error('gouraud', 256, 'rmse')"]:

@@ -38,7 +38,7 @@ import ast
 import re
 from dataclasses import dataclass
 
-from phonglab.scene.errors import SceneError
+from phonglab.scene.errors import SceneError, did_you_mean
 from phonglab.scene.schema import CLAIM_FUNCTIONS, CLAIM_MAX_CHARS, CLAIM_MAX_NODES, PICTURE_FUNCTIONS
 
 __all__ = ["Claim", "FalseWhen", "parse_check", "calls", "about_problem", "seeing_word", "replaced_check"]
@@ -97,16 +97,16 @@ class Claim:
     index: int = 0
 
 
-def _fail(problem: str, value=None) -> SceneError:
+def _fail(problem: str, value=None, hint: str | None = None) -> SceneError:
     return SceneError(problem, value=value,
-                      hint="allowed: numbers, + - * / **, comparisons, and/or/not, and calls of "
-                           + ", ".join(CLAIM_FUNCTIONS))
+                      hint=hint or "allowed: numbers, + - * / **, comparisons, and/or/not, and calls of "
+                      + ", ".join(CLAIM_FUNCTIONS))
 
 
 def _check_call(node: ast.Call) -> None:
     if not isinstance(node.func, ast.Name) or node.func.id not in CLAIM_FUNCTIONS:
         shown = node.func.id if isinstance(node.func, ast.Name) else ast.unparse(node.func)
-        raise _fail("calls an unknown function", shown)
+        raise _fail("calls an unknown function", shown, did_you_mean(shown, CLAIM_FUNCTIONS))
     if node.keywords:
         raise _fail(f"{node.func.id}() takes no keyword arguments", ast.unparse(node))
     kinds = CLAIM_FUNCTIONS[node.func.id][0]
