@@ -93,3 +93,33 @@ def test_check_camera_returns_floats_and_names_the_bad_field():
         args = {"eye": (0, 0, 5), "focal_point": (0, 0, 0), "up": (0, 1, 0), "view_angle": 30.0, **kwargs}
         with pytest.raises(ValueError, match=f"^{field}:"):
             check_camera(**args)
+
+
+#: the 3D view's size in the page at 1920x1080, 1366x768, 1280x800 and 1024x768 (tests/browser/test_responsive.py)
+PAGE_VIEWS = [(1004, 665), (656, 358), (596, 376), (417, 331)]
+
+
+def test_an_experiment_that_says_the_view_keeps_the_lamp_in_sight_does_at_every_laptop_size():
+    """Lesson 10's "No shadows" put the lamp at x = 3.2: framing it needed 47-58 degrees, past the 45 allowed,
+    so at 1920x1080, 1280x800 and 1024x768 the lamp was out of the picture that the text says keeps it."""
+    pytest.importorskip("vtk")
+    from phonglab.render.view import SceneView
+    from phonglab.scene import load_lesson
+
+    said = []
+    for path in sorted((ROOT / "lessons").glob("[0-9]*.md")):
+        lesson = load_lesson(path)
+        for experiment in lesson.experiments:
+            if "lamp in sight" not in experiment.text:
+                continue
+            scene = lesson.scene.replace_many(experiment.settings)
+            for size in PAGE_VIEWS:
+                view = SceneView(scene, size=size)
+                try:
+                    shown = [bool(g.actor.GetVisibility()) for g in view.glyph_actors.light_markers[1:]]
+                finally:
+                    view.close()
+                said.append((path.stem, experiment.label, size, shown))
+    assert said, "no experiment says it keeps the lamp in sight"
+    hidden = [s for s in said if not all(s[3])]
+    assert not hidden, f"lamp markers left out (lesson, experiment, view size, markers shown): {hidden}"
