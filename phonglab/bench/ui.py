@@ -480,6 +480,8 @@ class ServerPress(KeyPress):
 
     #: turn back this far (in the slider's units) before the slider's end
     MARGIN = 0.1
+    #: the presses go down the slider (ArrowLeft) since they reached its top end
+    _back = False
 
     def step(self) -> float:
         page = self.page
@@ -496,7 +498,7 @@ class ServerPress(KeyPress):
         records = self.records()
         cpu = self.server_cpu()
         start = time.perf_counter()
-        page.keyboard.press("ArrowLeft" if getattr(self, "_back", False) else "ArrowRight")
+        page.keyboard.press("ArrowLeft" if self._back else "ArrowRight")
         self._presses += 1
         page.wait_for_function(_NEW_COLOURS_SHOWN, arg=shown, timeout=30_000)
         latency = (time.perf_counter() - start) * 1000.0

@@ -124,7 +124,7 @@ def run(args) -> int:
 
     bad_files = problems = 0
     files = expand(args.files)
-    numbered: dict = {}  # (folder, lesson number) -> the checked lessons that have it
+    numbered: dict = {}  # (folder, lesson number) -> the first checked lesson that has it
     for path in files:
         try:
             loaded = load(path)
@@ -138,11 +138,10 @@ def run(args) -> int:
             continue
         found, notes = [], []
         if isinstance(loaded, Lesson):
-            same = numbered.setdefault((Path(path).resolve().parent, loaded.number), [])
-            if same:  # two lessons of one folder under one number: the page would list both as "4 · …"
-                found.append(f"{path}: number: lesson {loaded.number} is also {same[0].name}; "
+            first = numbered.setdefault((Path(path).resolve().parent, loaded.number), Path(path))
+            if first != Path(path):  # two lessons of one folder under one number: the page would list both as "4 · …"
+                found.append(f"{path}: number: lesson {loaded.number} is also {first.name}; "
                              "each lesson in a folder needs a number of its own")
-            same.append(Path(path))
         if isinstance(loaded, Lesson) and not args.no_claims:
             claims_found, notes = claim_report(loaded, path)
             found += claims_found
