@@ -492,7 +492,7 @@ def test_cli_reports_a_refused_read_as_a_failed_case(capsys, escape):
 def test_cli_picture_shows_the_student_beside_the_core(capsys, tmp_path):
     from PIL import Image
 
-    from phonglab.accuracy.grade_picture import CAPTION_HEIGHT
+    from phonglab.accuracy.grade_picture import CAPTION_HEIGHT, SCALE_BAND
     from phonglab.cli import grade as grade_cli
 
     png = tmp_path / "sphere.png"
@@ -501,7 +501,7 @@ def test_cli_picture_shows_the_student_beside_the_core(capsys, tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["sphere.png"]  # no temporary file left
     image = np.asarray(Image.open(png).convert("RGB")).astype(int)
     size, gap, caption = grade_cli.PICTURE_SIZE * 2, 8, CAPTION_HEIGHT
-    assert image.shape == (size + caption + 2 * gap, 3 * size + 4 * gap, 3)
+    assert image.shape == (size + caption + 2 * gap + SCALE_BAND, 3 * size + 4 * gap, 3)
     panels = [image[caption + gap: caption + gap + size, gap + i * (size + gap): gap + i * (size + gap) + size]
               for i in range(3)]
     # the correct student's sphere is the core's, to the last grey level

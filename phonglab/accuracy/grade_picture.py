@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["PICTURE_SIZE", "DIFFERENCE_RANGE", "CAPTION_HEIGHT", "picture_scene", "sphere_images", "caption_lines",
-           "picture_png"]
+__all__ = ["PICTURE_SIZE", "DIFFERENCE_RANGE", "CAPTION_HEIGHT", "SCALE_TOP", "SCALE_HEIGHT", "picture_scene",
+           "sphere_images", "caption_lines", "difference_colours", "picture_png"]
 
 #: the picture: a unit sphere seen from (0, 0, 4), lit from the front-right and,
 #: to show the mistakes, from behind (no-clamp darkens the front, ungated glows on the rim)
@@ -30,6 +30,11 @@ LINE = 14
 CAPTION_LINES = 2
 #: the band above the panels that holds their captions
 CAPTION_HEIGHT = CAPTION_LINES * LINE + 4
+#: the difference map's colour scale under its panel: the bar's top (below the panels) and height, in pixels
+SCALE_TOP = 4
+SCALE_HEIGHT = 10
+#: the band below the panels that holds the scale: its bar and a line of tick labels
+SCALE_BAND = SCALE_TOP + SCALE_HEIGHT + 3 + LINE
 
 
 
@@ -100,6 +105,16 @@ def caption_lines(text: str, width: float, measure) -> list[str]:
     return lines
 
 
+def difference_colours(diff):
+    """The difference map's colours (uint8 RGB) for ``|difference|`` values: inferno over :data:`DIFFERENCE_RANGE` in log scale."""
+    import numpy as np
+    from matplotlib import colormaps
+
+    lo, hi = DIFFERENCE_RANGE
+    t = (np.log10(np.maximum(diff, lo)) - math.log10(lo)) / (math.log10(hi) - math.log10(lo))
+    return np.round(colormaps["inferno"](np.clip(t, 0, 1))[..., :3] * 255).astype(np.uint8)
+
+
 def picture_png(file, limits, *, encoding: str = "srgb", exposure: float = 1.0) -> tuple[bytes | None, str]:
     """``student | core | difference`` as PNG bytes, and a note on pixels without a colour.
 
@@ -112,7 +127,6 @@ def picture_png(file, limits, *, encoding: str = "srgb", exposure: float = 1.0) 
     import io
 
     import numpy as np
-    from matplotlib import colormaps
     from PIL import Image, ImageDraw, ImageFont
 
     from phonglab.accuracy.images import display_image
@@ -127,17 +141,15 @@ def picture_png(file, limits, *, encoding: str = "srgb", exposure: float = 1.0) 
     def to_rgb(image):
         return display_image(image, mask, background=(26, 26, 30), encoding=encoding, exposure=exposure)
 
-    lo, hi = DIFFERENCE_RANGE
     diff = np.max(np.abs(np.nan_to_num(student - core, nan=0.0)), axis=-1)
-    t = (np.log10(np.maximum(diff, lo)) - math.log10(lo)) / (math.log10(hi) - math.log10(lo))
-    diff_rgb = np.round(colormaps["inferno"](np.clip(t, 0, 1))[..., :3] * 255).astype(np.uint8)
+    diff_rgb = difference_colours(diff)
     diff_rgb[~mask] = (128, 128, 136)
     student_rgb = to_rgb(student)
     for image in (student_rgb, diff_rgb):
         image[bad] = (255, 0, 255)  # no colour from the student: an error, NaN or time-out
 
     size, gap, caption = PANEL, GAP, CAPTION_HEIGHT
-    canvas = Image.new("RGB", (3 * size + 4 * gap, size + caption + 2 * gap), (255, 255, 255))
+    canvas = Image.new("RGB", (3 * size + 4 * gap, size + caption + 2 * gap + SCALE_BAND), (255, 255, 255))
     draw = ImageDraw.Draw(canvas)
     try:
         font = ImageFont.load_default(size=12)
@@ -152,6 +164,31 @@ def picture_png(file, limits, *, encoding: str = "srgb", exposure: float = 1.0) 
         # each caption within its own panel's width, wrapped rather than cut at the picture's edge
         for row, line in enumerate(caption_lines(label, size, lambda t: draw.textlength(t, font=font))):
             draw.text((x, 3 + row * LINE), line, fill=(0, 0, 0), font=font)
+    _draw_scale(canvas, draw, font, x=gap + 2 * (size + gap), y=caption + gap + size + SCALE_TOP, width=size)
     buffer = io.BytesIO()
     canvas.save(buffer, format="PNG")
     return buffer.getvalue(), (f"{failures} pixels without a colour, shown magenta" if failures else "")
+
+
+def _draw_scale(canvas, draw, font, *, x: int, y: int, width: int) -> None:
+    """The difference map's colour bar at ``(x, y)``, ``width`` wide, with its ends and middle labelled.
+
+    The bar runs over :data:`DIFFERENCE_RANGE` in log scale, left to right,
+    in the colours the map uses (:func:`difference_colours`).
+    """
+    import numpy as np
+    from PIL import Image
+
+    lo, hi = DIFFERENCE_RANGE
+    values = 10.0 ** np.linspace(math.log10(lo), math.log10(hi), width)
+    bar = np.repeat(difference_colours(values)[None, :, :], SCALE_HEIGHT, axis=0)
+    canvas.paste(Image.fromarray(bar), (x, y))
+    draw.rectangle((x - 1, y - 1, x + width, y + SCALE_HEIGHT), outline=(90, 90, 90))
+    mid = 10.0 ** ((math.log10(lo) + math.log10(hi)) / 2)
+    top = y + SCALE_HEIGHT + 3
+    for value, tick in ((lo, x), (mid, x + width // 2), (hi, x + width - 1)):
+        draw.line((tick, y + SCALE_HEIGHT, tick, y + SCALE_HEIGHT + 2), fill=(90, 90, 90))
+        label = f"{value:g}"
+        # the end labels stay under the bar, the middle one is centred on its tick
+        left = min(max(tick - draw.textlength(label, font=font) / 2, x), x + width - draw.textlength(label, font=font))
+        draw.text((left, top), label, fill=(0, 0, 0), font=font)
