@@ -25,7 +25,7 @@ _COLOURS = {"flat": "#1b9e77", "gouraud": "#d95f02", "pixel": "#7570b3",
 def _reference_line(ax, seconds, label):
     ax.axvline(seconds, color="0.55", linestyle="--", linewidth=1)
     ax.annotate(label, (seconds, 0.02), xycoords=("data", "axes fraction"), rotation=90,
-                fontsize=7, color="0.35", ha="right", va="bottom")
+                fontsize=8, color="0.35", ha="right", va="bottom")
 
 
 def _interpolation(ax, study, key, ylabel):
@@ -35,12 +35,12 @@ def _interpolation(ax, study, key, ylabel):
         ax.plot(t, [r[key] for r in rows], "o-", color=_COLOURS[method], label=method, markersize=4)
         if rows:  # label the coarsest and finest mesh
             for r in (rows[0], rows[-1]):
-                ax.annotate(str(r["resolution"]), (r["time"] * 1e3, r[key]), fontsize=6,
+                ax.annotate(str(r["resolution"]), (r["time"] * 1e3, r[key]), fontsize=7,
                             xytext=(3, 3), textcoords="offset points")
     _reference_line(ax, study["reference_time"] * 1e3, "exact sphere")
     ax.set_xlabel("shading time (ms)")
     ax.set_ylabel(ylabel)
-    ax.legend(fontsize=7, title="mesh resolution labelled", title_fontsize=6)
+    ax.legend(fontsize=8, title="mesh resolution labelled", title_fontsize=8)
 
 
 def _precision(ax, study):
@@ -60,7 +60,7 @@ def _precision(ax, study):
         _reference_line(ax, float(np.median(mp)), "mpmath 50 digits")
     ax.set_xlabel("time per million points (s)")
     ax.set_ylabel("max relative error")
-    ax.legend(fontsize=6)
+    ax.legend(fontsize=8)
 
 
 def _models(ax, study):
@@ -83,7 +83,7 @@ def _models(ax, study):
             _reference_line(ax, phong[0], f"phong, {setup.split(',')[0]}")
     ax.set_xlabel("time per million points (s)")
     ax.set_ylabel(f"max |specular − phong's|, worst of α = {shown}")
-    ax.legend(fontsize=6)
+    ax.legend(fontsize=8)
     # the times span less than a decade: label a few plain ticks, not every minor one
     ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
     ax.xaxis.set_minor_formatter(NullFormatter())
@@ -102,7 +102,7 @@ def _area_time(ax, study):
     _reference_line(ax, study["reference_time"] * 1e3, "exact (Lambert)")
     ax.set_xlabel("time (ms)")
     ax.set_ylabel("relative RMS error")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
 
 
 def _area_samples(ax, study):
@@ -122,7 +122,7 @@ def _area_samples(ax, study):
         ax.plot(n, guide, ":", color="0.4", label="1/√N")
     ax.set_xlabel("samples per point N")
     ax.set_ylabel("relative RMS error")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
 
 
 def draw(results: dict):
