@@ -316,3 +316,40 @@ def test_the_letters_checked_are_the_letters_drawn():
 
     assert "".join(VECTORS) == VECTOR_LETTERS, (list(VECTORS), VECTOR_LETTERS)
     assert parse_vectors("h,v n") == "NVH"
+
+
+@pytest.mark.parametrize("sweeps, shape", [
+    (["material.shininess=5,50,500"], (1, 3)),
+    (["material.ks=0.2,0.8", "material.shininess=10,100"], (2, 2)),
+    (["material.shininess=" + ",".join(str(5 * k) for k in range(1, 9))], (1, 8)),
+    (["material.ks=0.1,0.5,0.9"] + ["material.shininess=10,100,1000"], (3, 3)),
+])
+def test_a_sweep_without_a_size_gets_cells_of_four_by_three(scene_file, out_dir, sweeps, shape):
+    """A row of three sweeps was 1200x900: three cells about 390 pixels wide and 800 tall."""
+    from phonglab.render.figure_request import check_request
+    from phonglab.render.layout import GRID_WIDTH, grid_layout
+
+    args = [a for s in sweeps for a in ("--sweep", s)]
+    request = check_request(scene_file, out_dir / "grid.png", size="auto", sweep=sweeps)
+    rows, cols = shape
+    boxes, _ = grid_layout(request.size, rows, cols, title=True, row_labels=rows > 1 and len(sweeps) == 2,
+                           col_labels=True)
+    _, _, w, h = boxes[0][0]
+    assert len(boxes) == rows and len(boxes[0]) == cols, (args, request.size)
+    assert abs(w / h - 4 / 3) < 0.02 and 300 <= w <= 600, (args, request.size, (w, h))
+    assert cols * w <= max(GRID_WIDTH, 300 * cols), (args, request.size)
+    # a size the user gives is the size drawn
+    given = check_request(scene_file, out_dir / "grid.png", size="1000x700", sweep=sweeps)
+    assert given.size == (1000, 700), (args, given.size)
+
+
+def test_the_command_line_sweep_without_size_is_a_wide_row(scene_file, out_dir):
+    from PIL import Image
+
+    out = out_dir / "row.png"
+    assert export(scene_file, "-o", out, "--sweep", "material.shininess=5,50,500", "--supersample", "1") == 0
+    width, height = Image.open(out).size
+    assert width > 3 * height, (width, height)
+    out = out_dir / "single.png"  # one render keeps the 4:3 default
+    assert export(scene_file, "-o", out, "--supersample", "1") == 0
+    assert Image.open(out).size == (1200, 900)

@@ -36,8 +36,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--set", dest="settings", action="append", default=[], metavar="PATH=VALUE",
         help="change a scene field first, e.g. --set material.shininess=100 (repeatable; values as in TOML)",
     )
-    parser.add_argument("--size", default="{}x{}".format(*DEFAULT_SIZE), metavar="WxH",
-                        help="figure size in pixels (default {}x{})".format(*DEFAULT_SIZE))
+    parser.add_argument("--size", default=AUTO, metavar="WxH",
+                        help="figure size in pixels (default {}x{}; a sweep's grid: 4:3 cells, "
+                             "1800 pixels of them across at most)".format(*DEFAULT_SIZE))
     parser.add_argument(
         "--vectors", default=None, metavar="N,L,R,V,H",
         help="which vectors to draw at the probe, or 'none' (default: all on a single render, none in grids)",
@@ -77,7 +78,7 @@ def run(args) -> int:
     from phonglab.scene import SceneError
 
     try:
-        size = parse_size(args.size)
+        size = AUTO if args.size == AUTO else parse_size(args.size)
         if not 1 <= args.supersample <= 4:
             raise FigureError(f"supersample: must be from 1 to 4, got {args.supersample}")
         if args.compare and args.mistake is None:

@@ -17,10 +17,11 @@ from pathlib import Path
 
 from phonglab.render._files import clean_stale_temporaries
 from phonglab.render.errors import FigureError
-from phonglab.render.layout import grid_layout
+from phonglab.render.layout import grid_layout, grid_size
 from phonglab.render.options import (
     AUTO,
     DEFAULT_SIZE,
+    MAX_RENDER_PIXELS,
     PLOTS,
     apply_settings,
     check_output,
@@ -68,7 +69,8 @@ def check_request(scene_or_path, out_path, *, size=DEFAULT_SIZE, settings=(), ve
     """
     path, ext = check_output(out_path)
     clean_stale_temporaries(path.resolve().parent)  # what a killed export left behind
-    size = parse_size(size)
+    fitted = size is None or size == AUTO  # a sweep's grid then picks the size; anything else 1200x900
+    size = DEFAULT_SIZE if fitted else parse_size(size)
     if plot is None:
         supersample = check_render_work(size, supersample)
     if plot is not None and plot not in PLOTS:
@@ -96,7 +98,13 @@ def check_request(scene_or_path, out_path, *, size=DEFAULT_SIZE, settings=(), ve
     if sweeps:
         # the grid must have room for its cells before n × m scenes are built
         rows, cols = (len(sweeps[0][1]), len(sweeps[1][1])) if len(sweeps) == 2 else (1, len(sweeps[0][1]))
-        grid_layout(size, rows, cols, title=bool(scene.title), row_labels=len(sweeps) == 2, col_labels=True)
+        shape = {"title": bool(scene.title), "row_labels": len(sweeps) == 2, "col_labels": True}
+        if fitted:
+            # cells as large as the render's pixel limit allows at this supersampling (checked above)
+            size = parse_size(grid_size(rows, cols, **shape, max_pixels=MAX_RENDER_PIXELS // supersample**2))
+            supersample = check_render_work(size, supersample)
+            check_picture_work(scene, size[0] * size[1] * supersample**2)
+        grid_layout(size, rows, cols, **shape)
     grid = bool(terms or sweeps or compare or models)
     letters = (None if grid else "NLRVH") if vectors == AUTO else vectors
     try:

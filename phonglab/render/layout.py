@@ -59,6 +59,44 @@ def grid_layout(size, rows, cols, *, title: bool, row_labels: bool, col_labels: 
     return boxes, u
 
 
+#: a sweep's cells when the figure's size is left to the grid: 4:3, this wide at most and at least
+GRID_CELL_WIDTH = (600, 300)
+#: and the whole figure this wide at most (before its margins)
+GRID_WIDTH = 1800
+
+
+def grid_size(rows, cols, *, title: bool, row_labels: bool, col_labels: bool,
+              max_pixels: int | None = None) -> tuple[int, int]:
+    """A figure size (width, height) in pixels whose :func:`grid_layout` cells are 4:3.
+
+    Each cell is :data:`GRID_WIDTH` / ``cols`` wide, kept within
+    :data:`GRID_CELL_WIDTH`: a row of three sweeps is 1800 pixels of cells
+    and a few hundred tall, not three tall strips in a 4:3 page. With
+    ``max_pixels``, the cells shrink (down to the narrowest) until the
+    figure has at most that many pixels.
+    """
+    widest, narrowest = GRID_CELL_WIDTH
+    cell_w = max(narrowest, min(widest, GRID_WIDTH // cols))
+    while True:
+        size = _fitted(rows, cols, cell_w, title=title, row_labels=row_labels, col_labels=col_labels)
+        if max_pixels is None or size[0] * size[1] <= max_pixels or cell_w <= narrowest:
+            return size
+        cell_w = max(narrowest, int(cell_w * 0.95))
+
+
+def _fitted(rows, cols, cell_w, **shape) -> tuple[int, int]:
+    """The size whose grid cells are ``cell_w`` by three quarters of it."""
+    cell_h = cell_w * 3 // 4
+    size = (cell_w * cols, cell_h * rows)
+    for _ in range(8):  # the margins follow the size's unit, which follows the size
+        boxes, _unit = grid_layout(size, rows, cols, **shape)
+        _, _, w, h = boxes[0][0]
+        if (w, h) == (cell_w, cell_h):
+            break
+        size = (size[0] + (cell_w - w) * cols, size[1] + (cell_h - h) * rows)
+    return size
+
+
 def place(fig, image, box, size):
     """Put an image at a pixel box (top-left origin), unscaled."""
     x, y, w, h = box
