@@ -354,10 +354,20 @@ class _Page:
                 v3.VBtn("Back to the 3D view", size="small", variant="tonal", prepend_icon="mdi-close",
                         click="view__compare = false", classes="phonglab-compare-close")
             v3.VProgressLinear(indeterminate=True, v_if="compare_busy", color="primary", height=2)
-            html.Img(v_if="compare_png.src", src=("compare_png.src",), classes="phonglab-compare-picture",
-                     alt="this scene under Phong (left) and under Cook–Torrance (right)")
+            # a picture per model, its caption page text under it: drawn into a picture the page scales
+            # down, the captions were about 7 px tall on a laptop
+            with html.Div(v_if="compare_png.panels.length", classes=(
+                    "compare_png.stacked ? 'phonglab-compare-figures phonglab-compare-stacked' : "
+                    "'phonglab-compare-figures'",)):
+                with html.Figure(v_for="p in compare_png.panels", key="p.model", classes=(
+                        "p.own ? 'phonglab-compare-figure phonglab-compare-own' : 'phonglab-compare-figure'",)):
+                    html.Img(src=("p.src",), alt=("'this scene under ' + p.caption",),
+                             classes="phonglab-compare-picture")
+                    with html.Figcaption(classes="phonglab-compare-caption"):
+                        html.Span("{{ p.caption }}")
+                        html.Span("the scene's model", v_if="p.own", classes="phonglab-compare-own-tag")
             html.Div("Making the comparison… (a few seconds)", role="status",
-                     v_if="!compare_png.src && compare_png.status === 'making'", classes="phonglab-note")
+                     v_if="!compare_png.panels.length && compare_png.status === 'making'", classes="phonglab-note")
             html.Div("{{ compare_png.error }}", v_if="compare_png.status === 'failed'", role="status",
                      classes="phonglab-note")
 

@@ -30,6 +30,8 @@ from phonglab.bench.ui import log_tail
 LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 SLUGS = sorted(p.stem for p in LESSONS.glob("*.md") if p.stem[:2].isdigit())
 SIZES = [(1280, 800), (1366, 768), (800, 900), (1920, 1080), (1024, 768)]
+#: the laptop sizes (and a desktop's) where the view's captions and notices are checked
+LAPTOP_SIZES = [(1366, 768), (1280, 800), (1920, 1080)]
 #: formulas are at least this fraction of the lesson text's font size
 MIN_FORMULA = 0.9
 #: the smallest scale formulas.js gives a formula before it breaks it into lines (its MIN_SCALE)
@@ -357,3 +359,73 @@ def test_on_a_laptop_the_view_bar_is_one_row_and_its_buttons_keep_their_names(ta
             if hidden:
                 found.append(f"{width}x{height}: words hidden though there is room: {hidden}")
     assert not found, f"{slug}:\n" + "\n".join(found)
+
+#: the least height of a caption's letters as displayed (its font size, CSS px)
+MIN_CAPTION_PX = 11
+#: how each compare panel's caption begins (render/captions.py, model_label)
+CAPTION_STARTS = ("Phong: α = ", "Cook–Torrance: roughness ")
+#: each caption's text as the page shows it (its font size and box), found by its words in the compare view,
+#: and the pictures' sizes there: natural and displayed
+CAPTIONS_JS = """(starts) => {
+  const panel = document.querySelector('.phonglab-compare');
+  const walker = document.createTreeWalker(panel, NodeFilter.SHOW_TEXT);
+  const found = {};
+  for (let node = walker.nextNode(); node; node = walker.nextNode()) {
+    const start = starts.find((s) => node.textContent.trim().startsWith(s));
+    if (!start || found[start]) continue;
+    const range = document.createRange();
+    range.selectNodeContents(node);
+    const r = range.getBoundingClientRect();
+    found[start] = { text: node.textContent.trim(), fontPx: parseFloat(getComputedStyle(node.parentElement).fontSize),
+                     box: [r.left, r.top, r.right, r.bottom].map(Math.round) };
+  }
+  const p = panel.getBoundingClientRect();
+  const pictures = [...panel.querySelectorAll('img')].map((i) => {
+    const b = i.getBoundingClientRect();
+    return { natural: [i.naturalWidth, i.naturalHeight], shown: [Math.round(b.width), Math.round(b.height)] };
+  });
+  return { captions: found, panel: [p.left, p.top, p.right, p.bottom].map(Math.round), pictures };
+}"""
+
+
+def test_compare_captions_are_readable_at_laptop_and_desktop_sizes(tab, lessons_server):
+    """The compare view's captions (the model and its lobe's parameters) were drawn into its picture, which the
+    page scaled down: about 7 px tall at 1366x768. They are page text at the page's own size."""
+    slug = "06-blinn-phong"
+    open_by_address(tab, lessons_server, slug)
+    found = []
+    try:
+        tab.locator(".phonglab-compare-toggle").click()
+        for width, height in LAPTOP_SIZES:
+            tab.set_viewport_size({"width": width, "height": height})
+            tab.evaluate(FRAMES)
+            # pictures shown (the last size's, maybe, while this size's are made: the captions' size is the
+            # page's either way, and the pictures are fitted into their boxes)
+            tab.wait_for_function("() => { const c = window.trame.state.get('compare_png'); "
+                                  "return c && c.status === 'ready'; }", timeout=120_000)
+            tab.wait_for_function("() => [...document.querySelectorAll('.phonglab-compare img')]"
+                                  ".every((i) => i.complete && i.naturalWidth > 0)", timeout=30_000)
+            tab.evaluate(FRAMES)
+            seen = tab.evaluate(CAPTIONS_JS, list(CAPTION_STARTS))
+            where = f"{slug} at {width}x{height}"
+            for start in CAPTION_STARTS:
+                caption = seen["captions"].get(start)
+                if caption is None:
+                    found.append(f"{where}: no caption {start!r}… as page text in the compare view; its pictures "
+                                 f"(natural -> displayed px): {seen['pictures']}")
+                    continue
+                if caption["fontPx"] < MIN_CAPTION_PX:
+                    found.append(f"{where}: caption {caption['text']!r} is {caption['fontPx']:.1f} px tall "
+                                 f"(font size), under {MIN_CAPTION_PX} px")
+                x0, y0, x1, y1 = caption["box"]
+                px0, py0, px1, py1 = seen["panel"]
+                if x0 < px0 - 1 or x1 > px1 + 1 or y0 < py0 - 1 or y1 > py1 + 1:
+                    found.append(f"{where}: caption {caption['text']!r} at {caption['box']} is outside the compare "
+                                 f"view {seen['panel']}")
+            small = [p for p in seen["pictures"] if min(p["shown"]) < 120]
+            if small:
+                found.append(f"{where}: a picture is shown smaller than 120 px: {seen['pictures']}")
+    finally:
+        tab.evaluate("() => window.trame.state.set('view__compare', false)")
+        tab.wait_for_selector(".phonglab-compare", state="detached", timeout=30_000)
+    assert not found, "compare view captions:\n" + "\n".join(found)
