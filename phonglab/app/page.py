@@ -334,14 +334,17 @@ class _Page:
                     html.Div("updating the picture…", v_if="pixel_pending", role="status",
                              classes="phonglab-pixel-updating")
                 self._compare_panel()
-                truth_ui.wrong_banner()
-                html.Div(
-                    "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you let go' : "
-                    "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
-                    "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
-                    classes="phonglab-hint",
-                )
-                self._notice()
+                # the view's foot, from the bottom up: the hint line (or the mistake's banner in its place),
+                # then a notice stacked above them, so that it covers neither
+                with html.Div(classes="phonglab-foot"):
+                    self._notice()
+                    truth_ui.wrong_banner()
+                    html.Div(
+                        "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you "
+                        "let go' : (pick_target === 'light' ? 'Click the surface to put the light above it' : "
+                        "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
+                        classes="phonglab-hint",
+                    )
             self._accuracy_panel()
             self._readout_panel()
 
@@ -429,8 +432,9 @@ class _Page:
 
     @staticmethod
     def _notice():
-        """The page's notice, over the foot of the view: it covers none of the controls, and a notice that
-        only informs ("Applied: …") goes by itself after a few seconds (``www/phonglab.js``)."""
+        """The page's notice, at the foot of the view above its hint line: it covers none of the controls nor
+        the hint, and a notice that only informs ("Applied: …") goes by itself after a few seconds
+        (``www/phonglab.js``)."""
         with v3.VAlert(
             v_if="notice",
             type=("notice.kind",),

@@ -222,10 +222,59 @@ def test_notice_does_not_push_the_controls_down(tab, lessons_server):
     assert notice["x"] >= 0 and notice["x"] + notice["width"] <= 1366, f"the notice {text!r} is outside the window: {notice}"
     found = tab.evaluate(MEASURE, {"notice": TEXT_BOXES["notice"]})
     assert not found, f"04-specular at 1366x768 with the notice {text!r}:\n" + "\n".join(found)
-    # at the view's very foot, over the hint line: higher up it covered the object the experiment had changed
-    view = tab.locator(".phonglab-view").bounding_box()
-    foot = view["y"] + view["height"] - (notice["y"] + notice["height"])
-    assert 0 <= foot <= 12, f"the notice {text!r} ends {foot:.0f} px above the view's foot (view {view}, notice {notice})"
+    problems = notice_at_the_foot_problems(tab)
+    assert not problems, "04-specular at 1366x768:\n" + "\n".join(problems)
+
+
+#: the boxes (left, top, right, bottom) of the notice, the view, and what the notice must leave in sight
+FOOT_BOXES_JS = """() => {
+  const box = (e) => { const b = e.getBoundingClientRect(); return [b.left, b.top, b.right, b.bottom].map(Math.round); };
+  const shown = (e) => { const b = e.getBoundingClientRect(); return b.width > 0 && b.height > 0; };
+  const notice = document.querySelector('.phonglab-notice');
+  const keep = {};
+  for (const [what, selector] of [['hint line', '.phonglab-hint'], ['mistake banner', '.phonglab-wrong-banner'],
+                                   ['legend', '.phonglab-legend'], ['view tools', '.phonglab-tools']])
+    for (const e of document.querySelectorAll(selector)) if (shown(e)) keep[what] = box(e);
+  return { text: notice && notice.innerText.trim(), notice: notice && box(notice),
+           view: box(document.querySelector('.phonglab-view')), keep };
+}"""
+
+
+def notice_at_the_foot_problems(tab) -> list[str]:
+    """What is wrong with where the notice showing now lies: over the view's hint line, the mistake's banner or
+    the legend; outside the view; or more than 12 px above the hint line (over the object the experiment changed)."""
+    seen = tab.evaluate(FOOT_BOXES_JS)
+    text, notice, view = seen["text"], seen["notice"], seen["view"]
+    if notice is None:
+        return ["no notice showing"]
+    problems = []
+    for what, (x0, y0, x1, y1) in seen["keep"].items():
+        if notice[0] < x1 and x0 < notice[2] and notice[1] < y1 and y0 < notice[3]:
+            problems.append(f"the notice {text!r} {notice} covers the {what} {[x0, y0, x1, y1]} "
+                            "(left, top, right, bottom)")
+    if notice[0] < view[0] - 1 or notice[2] > view[2] + 1 or notice[1] < view[1] - 1 or notice[3] > view[3] + 1:
+        problems.append(f"the notice {text!r} {notice} is not inside the view {view}")
+    below = seen["keep"].get("hint line") or seen["keep"].get("mistake banner")
+    lowest = below[1] if below else view[3]
+    if lowest - notice[3] > 12:
+        problems.append(f"the notice {text!r} {notice} ends {lowest - notice[3]} px above the view's foot line "
+                        f"(at y = {lowest}): higher up it covers the object the experiment changed")
+    return problems
+
+
+@pytest.mark.parametrize("width, height", LAPTOP_SIZES)
+def test_an_applied_experiments_notice_leaves_the_hint_line_in_sight(tab, lessons_server, width, height):
+    """"Applied: …" lay over the view's hint line for the 4 s it shows, at every laptop size."""
+    tab.set_viewport_size({"width": width, "height": height})
+    open_by_address(tab, lessons_server, "04-specular")
+    # an earlier notice first goes: the measure is of the one this click brings
+    tab.evaluate("() => window.trame.state.set('notice', null)")
+    tab.wait_for_selector(".phonglab-notice", state="detached", timeout=20_000)
+    tab.locator(".phonglab-apply").first.click()
+    tab.wait_for_selector(".phonglab-notice", timeout=20_000)
+    tab.evaluate(FRAMES)
+    problems = notice_at_the_foot_problems(tab)
+    assert not problems, f"04-specular at {width}x{height}, after its first experiment's Apply:\n" + "\n".join(problems)
 
 
 #: every animation frame: an image over the view without a picture (a broken image), and the number of frames
