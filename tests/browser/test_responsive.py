@@ -437,10 +437,11 @@ CAPTIONS_JS = """(starts) => {
 }"""
 
 
-def test_compare_captions_are_readable_at_laptop_and_desktop_sizes(tab, lessons_server):
+@pytest.mark.parametrize("slug", ["06-blinn-phong", "13-physically-based"])
+def test_compare_captions_are_readable_at_laptop_and_desktop_sizes(tab, lessons_server, slug):
     """The compare view's captions (the model and its lobe's parameters) were drawn into its picture, which the
-    page scaled down: about 7 px tall at 1366x768. They are page text at the page's own size."""
-    slug = "06-blinn-phong"
+    page scaled down: about 7 px tall at 1366x768. They are page text at the page's own size. (Lesson 13's
+    Cook–Torrance caption, the longer, wraps onto two lines at 1280x800.)"""
     open_by_address(tab, lessons_server, slug)
     found = []
     try:
@@ -474,6 +475,11 @@ def test_compare_captions_are_readable_at_laptop_and_desktop_sizes(tab, lessons_
             small = [p for p in seen["pictures"] if min(p["shown"]) < 120]
             if small:
                 found.append(f"{where}: a picture is shown smaller than 120 px: {seen['pictures']}")
+            # side by side, both models at one scale (a caption on two lines once shrank its picture)
+            scales = [min(p["shown"][0] / p["natural"][0], p["shown"][1] / p["natural"][1]) for p in seen["pictures"]]
+            if len(scales) > 1 and max(scales) - min(scales) > 0.01:
+                found.append(f"{where}: the pictures are shown at different scales {[round(x, 3) for x in scales]}: "
+                             f"{seen['pictures']}")
     finally:
         tab.evaluate("() => window.trame.state.set('view__compare', false)")
         tab.wait_for_selector(".phonglab-compare", state="detached", timeout=30_000)
