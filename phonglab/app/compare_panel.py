@@ -1,19 +1,21 @@
-"""The compare view: the scene under Phong and under Cook–Torrance, side by side, under the 3D view.
+"""The compare view: the scene under Phong and under Cook–Torrance, side by side, over the 3D view.
 
 With the view's "Phong beside Cook–Torrance" switch on (the ``view.compare``
 option, so an address can carry it), the tab shows a picture of its scene
-shaded by both models: the same mesh, lights, eye and probe, each panel
-shaded per pixel by the core with its own model
-(:func:`phonglab.render.figures.models_figure`), labelled with the
-material parameters its lobe uses. It is made in a worker process
-(:mod:`phonglab.app.worker`), never in the event loop, and follows the
-scene: a change while one is being made asks for one more, for the newest
+per model, shaded per pixel by the core with that model: the same mesh,
+lights, eye and probe. Each picture's caption (the model and the material
+parameters its lobe uses, :func:`phonglab.render.captions.model_label`) is
+page text under it, not drawn into the picture: the page scales a picture
+to the view, and a caption drawn into it came out about 7 px tall on a
+laptop. The pictures are made in a worker process
+(:mod:`phonglab.app.worker`), never in the event loop, and follow the
+scene: a change while they are being made asks for one more, for the newest
 scene, when it is done.
 
 State keys: ``compare_png`` (``{"status": "idle" | "making" | "ready" |
-"failed", "src": data URL or "", "error": words or ""}``; a failed picture
-keeps the last one's ``src``) and ``compare_busy`` (a picture is being
-made).
+"failed", "panels": [{"model", "caption", "own", "src"}, ...], "stacked":
+one above the other, "error": words or ""}``; a failed picture keeps the
+last panels) and ``compare_busy`` (a picture is being made).
 """
 
 from __future__ import annotations
@@ -22,39 +24,58 @@ import base64
 import logging
 
 from phonglab.app.worker import ServerBusy, TabJob
+from phonglab.render.captions import COMPARED_MODELS, model_label
 
 log = logging.getLogger(__name__)
 
-__all__ = ["ComparePanel", "models_png", "SIZE"]
+__all__ = ["ComparePanel", "models_png", "panel_size", "SIZE"]
 
-#: the comparison's size in pixels (two panels side by side) when the view's size is not known
-SIZE = (960, 420)
-#: what the panel's heading takes of the view's height, in pixels
-HEADING = 80
-#: the comparison's smallest and largest side, in pixels
-SIDE_RANGE = (240, 1600)
+#: one panel's picture size in pixels when the view's size is not known
+SIZE = (470, 380)
+#: what the panel's heading and margins take of the view, in pixels (width, height)
+FRAME = (24, 80)
+#: the caption's line under each picture, and the gap between the pictures, in pixels
+CAPTION = 30
+GAP = 8
+#: a picture's smallest and largest side, in pixels
+SIDE_RANGE = (120, 1200)
 
 
-def picture_size(view_size) -> tuple[int, int]:
-    """The comparison's size for a view of ``view_size`` (width, height) pixels: the view less its heading."""
+def panel_size(view_size) -> tuple[tuple[int, int], bool]:
+    """One picture's size for a view of ``view_size`` (width, height) pixels, and whether they are stacked.
+
+    The pictures share the view less the heading, side by side, or one
+    above the other where the view is taller than wide; each keeps a
+    caption's line below it.
+    """
     if not view_size:
-        return SIZE
+        return SIZE, False
     low, high = SIDE_RANGE
-    width, height = view_size
-    return (min(max(int(width), low), high), min(max(int(height) - HEADING, low), high))
+    width, height = int(view_size[0]) - FRAME[0], int(view_size[1]) - FRAME[1]
+    stacked = width < height
+    n = len(COMPARED_MODELS)
+    if stacked:
+        width, height = width, (height - GAP * (n - 1)) // n - CAPTION
+    else:
+        width, height = (width - GAP * (n - 1)) // n, height - CAPTION
+    return (min(max(width, low), high), min(max(height, low), high)), stacked
 
 
-def models_png(scene, size=SIZE) -> bytes:
-    """PNG bytes of ``scene`` under each compared model, side by side, shaded per pixel (in a worker)."""
+def models_png(scene, size=SIZE) -> list[bytes]:
+    """PNG bytes of ``scene`` under each of the compared models, shaded per pixel, in their order (in a worker)."""
     import tempfile
     from pathlib import Path
 
     from phonglab.render import figure
 
+    pictures = []
     with tempfile.TemporaryDirectory(prefix="phonglab-compare-") as folder:
-        path = figure(scene.replace("interpolation", "pixel"), Path(folder) / "models.png", size=tuple(size),
-                      models=True, supersample=1)
-        return path.read_bytes()
+        for model, _ in COMPARED_MODELS:
+            # no arrows, as in the exported comparison: the pictures compare the shading
+            path = figure(scene.replace("interpolation", "pixel").replace("model", model),
+                          Path(folder) / f"{model}.png", size=tuple(size), vectors=None, supersample=1)
+            pictures.append(path.read_bytes())
+    return pictures
 
 
 class ComparePanel:
@@ -68,10 +89,10 @@ class ComparePanel:
     def __init__(self, state):
         self.state = state
         self._job = TabJob(state, "compare_busy")
-        self._wanted = None  # (scene, size) the page should show, while the comparison is on
-        self._making = None  # (scene, size) of the picture being made
-        self._shown = None  # (scene, size) of the picture shown
-        state.compare_png = {"status": "idle", "src": "", "error": ""}
+        self._wanted = None  # (scene, size, stacked) the page should show, while the comparison is on
+        self._making = None  # (scene, size, stacked) of the pictures being made
+        self._shown = None  # (scene, size, stacked) of the pictures shown
+        state.compare_png = {"status": "idle", "panels": [], "stacked": False, "error": ""}
 
     def follow(self, scene, on: bool, view_size=None) -> None:
         """The scene, the switch or the view's size changed: make the picture for the newest while it is on."""
@@ -82,7 +103,7 @@ class ComparePanel:
                 self._making = None
             self.state.compare_png = {**self.state.compare_png, "status": "idle"}
             return
-        self._wanted = (scene, picture_size(view_size))
+        self._wanted = (scene, *panel_size(view_size))
         if self._wanted == self._shown and not self._job.busy:
             return
         self._start()
@@ -94,16 +115,18 @@ class ComparePanel:
         self.state.compare_png = {**self.state.compare_png, "status": "making", "error": ""}
         try:
             # (without a server loop, in scripts and tests, the picture is made here and _done runs at once)
-            self._job.start(models_png, self._making, self._done, self._failed)
+            self._job.start(models_png, self._making[:2], self._done, self._failed)
         except ServerBusy:
             self._failed(ServerBusy("the server is busy with other pictures"))
 
-    def _done(self, data: bytes) -> None:
-        self._shown, self._making = self._making, None
+    def _done(self, pictures: list[bytes]) -> None:
+        (scene, _, stacked), self._shown, self._making = self._making, self._making, None
         if self._wanted is None:
             return  # switched off meanwhile
-        src = "data:image/png;base64," + base64.b64encode(data).decode("ascii")
-        self.state.compare_png = {"status": "ready", "src": src, "error": ""}
+        panels = [{"model": model, "caption": model_label(scene, model), "own": model == scene.model,
+                   "src": "data:image/png;base64," + base64.b64encode(data).decode("ascii")}
+                  for (model, _), data in zip(COMPARED_MODELS, pictures)]
+        self.state.compare_png = {"status": "ready", "panels": panels, "stacked": stacked, "error": ""}
         if self._wanted != self._shown:
             self._start()
 

@@ -334,14 +334,17 @@ class _Page:
                     html.Div("updating the picture…", v_if="pixel_pending", role="status",
                              classes="phonglab-pixel-updating")
                 self._compare_panel()
-                truth_ui.wrong_banner()
-                html.Div(
-                    "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you let go' : "
-                    "(pick_target === 'light' ? 'Click the surface to put the light above it' : "
-                    "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
-                    classes="phonglab-hint",
-                )
-                self._notice()
+                # the view's foot, from the bottom up: the hint line (or the mistake's banner in its place),
+                # then a notice stacked above them, so that it covers neither
+                with html.Div(classes="phonglab-foot"):
+                    self._notice()
+                    truth_ui.wrong_banner()
+                    html.Div(
+                        "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you "
+                        "let go' : (pick_target === 'light' ? 'Click the surface to put the light above it' : "
+                        "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
+                        classes="phonglab-hint",
+                    )
             self._accuracy_panel()
             self._readout_panel()
 
@@ -354,10 +357,20 @@ class _Page:
                 v3.VBtn("Back to the 3D view", size="small", variant="tonal", prepend_icon="mdi-close",
                         click="view__compare = false", classes="phonglab-compare-close")
             v3.VProgressLinear(indeterminate=True, v_if="compare_busy", color="primary", height=2)
-            html.Img(v_if="compare_png.src", src=("compare_png.src",), classes="phonglab-compare-picture",
-                     alt="this scene under Phong (left) and under Cook–Torrance (right)")
+            # a picture per model, its caption page text under it: drawn into a picture the page scales
+            # down, the captions were about 7 px tall on a laptop
+            with html.Div(v_if="compare_png.panels.length", classes=(
+                    "compare_png.stacked ? 'phonglab-compare-figures phonglab-compare-stacked' : "
+                    "'phonglab-compare-figures'",)):
+                with html.Figure(v_for="p in compare_png.panels", key="p.model", classes=(
+                        "p.own ? 'phonglab-compare-figure phonglab-compare-own' : 'phonglab-compare-figure'",)):
+                    html.Img(src=("p.src",), alt=("'this scene under ' + p.caption",),
+                             classes="phonglab-compare-picture")
+                    with html.Figcaption(classes="phonglab-compare-caption"):
+                        html.Span("{{ p.caption }}")
+                        html.Span("the scene's model", v_if="p.own", classes="phonglab-compare-own-tag")
             html.Div("Making the comparison… (a few seconds)", role="status",
-                     v_if="!compare_png.src && compare_png.status === 'making'", classes="phonglab-note")
+                     v_if="!compare_png.panels.length && compare_png.status === 'making'", classes="phonglab-note")
             html.Div("{{ compare_png.error }}", v_if="compare_png.status === 'failed'", role="status",
                      classes="phonglab-note")
 
@@ -419,8 +432,9 @@ class _Page:
 
     @staticmethod
     def _notice():
-        """The page's notice, over the foot of the view: it covers none of the controls, and a notice that
-        only informs ("Applied: …") goes by itself after a few seconds (``www/phonglab.js``)."""
+        """The page's notice, at the foot of the view above its hint line: it covers none of the controls nor
+        the hint, and a notice that only informs ("Applied: …") goes by itself after a few seconds
+        (``www/phonglab.js``)."""
         with v3.VAlert(
             v_if="notice",
             type=("notice.kind",),

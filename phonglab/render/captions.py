@@ -108,6 +108,25 @@ def ambient_value(scene) -> str:
 
 
 # ---------------------------------------------------------------------------
+# Phong beside Cook–Torrance
+
+#: the models the side-by-side view compares, in its order, and their labels
+COMPARED_MODELS = (("phong", "Phong"), ("cook-torrance", "Cook–Torrance"))
+
+
+def model_label(scene, model: str) -> str:
+    """A panel's label: the model and the material parameters its lobe uses.
+
+    The exported figure draws it over its panel; the page shows it as text
+    under its picture (``app/compare_panel.py``).
+    """
+    m = scene.material
+    if model == "cook-torrance":
+        return f"Cook–Torrance: roughness {m.roughness:g}, metallic {m.metallic:g}"
+    return f"{dict(COMPARED_MODELS).get(model, 'Blinn-Phong')}: α = {m.shininess:g}"
+
+
+# ---------------------------------------------------------------------------
 # the mistake's band
 
 

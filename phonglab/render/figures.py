@@ -24,6 +24,7 @@ import numpy as np
 from phonglab.render import shading
 from phonglab.render.annotate import downsample
 from phonglab.render.captions import (
+    COMPARED_MODELS,
     LABEL_BOX,
     RIGHT_COLOR,
     RIGHT_LABEL_BOX,
@@ -31,6 +32,7 @@ from phonglab.render.captions import (
     WRONG_LABEL_BOX,
     ambient_value,
     mistake_banner,
+    model_label,
     plain,
     sweep_label,
     wrong_term_labels,
@@ -430,18 +432,7 @@ def _sweep_figure(scene, sweeps, size, letters, supersample, background, progres
 
 
 # ---------------------------------------------------------------------------
-# Phong beside Cook–Torrance
-
-#: the models the side-by-side view compares, in its order, and their labels
-COMPARED_MODELS = (("phong", "Phong"), ("cook-torrance", "Cook–Torrance"))
-
-
-def model_label(scene, model: str) -> str:
-    """A panel's label: the model and the material parameters its lobe uses."""
-    m = scene.material
-    if model == "cook-torrance":
-        return f"Cook–Torrance: roughness {m.roughness:g}, metallic {m.metallic:g}"
-    return f"{dict(COMPARED_MODELS).get(model, 'Blinn-Phong')}: α = {m.shininess:g}"
+# Phong beside Cook–Torrance (the models and their labels: captions.py)
 
 
 def models_figure(scene, size, *, letters=None, supersample: int = 2, background=BACKGROUND, progress=None):

@@ -34,18 +34,19 @@ def test_roughness_and_metallic_sliders_the_readout_and_the_compare_view(browser
         assert tab.pixel_hash() != picture_before, "the picture did not change with the roughness"
         assert tab.slider("material__metallic").count() == 1, "no metallic slider"
 
-        # the compare view: both models side by side, redrawn when the roughness moves again
+        # the compare view: both models side by side, Cook–Torrance's redrawn when the roughness moves again
         page.locator(".phonglab-compare-toggle").click()
         page.wait_for_selector("img.phonglab-compare-picture", timeout=120_000)
         wait_for(lambda: page.evaluate(
-            "() => { const i = document.querySelector('img.phonglab-compare-picture');"
-            " return !!(i && i.complete && i.naturalWidth > 0); }"), "the comparison picture to load",
-            timeout=120)
-        first = page.get_attribute("img.phonglab-compare-picture", "src")
+            "() => { const i = [...document.querySelectorAll('img.phonglab-compare-picture')];"
+            " return i.length === 2 && i.every(p => p.complete && p.naturalWidth > 0); }"),
+            "the comparison's two pictures to load", timeout=120)
+        cook_torrance = ".phonglab-compare-figure:nth-child(2) img.phonglab-compare-picture"
+        first = page.get_attribute(cook_torrance, "src")
         assert "view.compare=true" in page.url or tab.state("view__compare") is True
         thumb.focus()
         page.keyboard.press("ArrowRight")
-        wait_for(lambda: page.get_attribute("img.phonglab-compare-picture", "src") != first,
+        wait_for(lambda: page.get_attribute(cook_torrance, "src") != first,
                  "the comparison to be redrawn for roughness 0.41", timeout=120)
         # off: the panel goes
         page.locator(".phonglab-compare-toggle").click()

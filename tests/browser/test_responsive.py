@@ -30,6 +30,8 @@ from phonglab.bench.ui import log_tail
 LESSONS = Path(__file__).resolve().parents[2] / "lessons"
 SLUGS = sorted(p.stem for p in LESSONS.glob("*.md") if p.stem[:2].isdigit())
 SIZES = [(1280, 800), (1366, 768), (800, 900), (1920, 1080), (1024, 768)]
+#: the laptop sizes (and a desktop's) where the view's captions and notices are checked
+LAPTOP_SIZES = [(1366, 768), (1280, 800), (1920, 1080)]
 #: formulas are at least this fraction of the lesson text's font size
 MIN_FORMULA = 0.9
 #: the smallest scale formulas.js gives a formula before it breaks it into lines (its MIN_SCALE)
@@ -220,10 +222,59 @@ def test_notice_does_not_push_the_controls_down(tab, lessons_server):
     assert notice["x"] >= 0 and notice["x"] + notice["width"] <= 1366, f"the notice {text!r} is outside the window: {notice}"
     found = tab.evaluate(MEASURE, {"notice": TEXT_BOXES["notice"]})
     assert not found, f"04-specular at 1366x768 with the notice {text!r}:\n" + "\n".join(found)
-    # at the view's very foot, over the hint line: higher up it covered the object the experiment had changed
-    view = tab.locator(".phonglab-view").bounding_box()
-    foot = view["y"] + view["height"] - (notice["y"] + notice["height"])
-    assert 0 <= foot <= 12, f"the notice {text!r} ends {foot:.0f} px above the view's foot (view {view}, notice {notice})"
+    problems = notice_at_the_foot_problems(tab)
+    assert not problems, "04-specular at 1366x768:\n" + "\n".join(problems)
+
+
+#: the boxes (left, top, right, bottom) of the notice, the view, and what the notice must leave in sight
+FOOT_BOXES_JS = """() => {
+  const box = (e) => { const b = e.getBoundingClientRect(); return [b.left, b.top, b.right, b.bottom].map(Math.round); };
+  const shown = (e) => { const b = e.getBoundingClientRect(); return b.width > 0 && b.height > 0; };
+  const notice = document.querySelector('.phonglab-notice');
+  const keep = {};
+  for (const [what, selector] of [['hint line', '.phonglab-hint'], ['mistake banner', '.phonglab-wrong-banner'],
+                                   ['legend', '.phonglab-legend'], ['view tools', '.phonglab-tools']])
+    for (const e of document.querySelectorAll(selector)) if (shown(e)) keep[what] = box(e);
+  return { text: notice && notice.innerText.trim(), notice: notice && box(notice),
+           view: box(document.querySelector('.phonglab-view')), keep };
+}"""
+
+
+def notice_at_the_foot_problems(tab) -> list[str]:
+    """What is wrong with where the notice showing now lies: over the view's hint line, the mistake's banner or
+    the legend; outside the view; or more than 12 px above the hint line (over the object the experiment changed)."""
+    seen = tab.evaluate(FOOT_BOXES_JS)
+    text, notice, view = seen["text"], seen["notice"], seen["view"]
+    if notice is None:
+        return ["no notice showing"]
+    problems = []
+    for what, (x0, y0, x1, y1) in seen["keep"].items():
+        if notice[0] < x1 and x0 < notice[2] and notice[1] < y1 and y0 < notice[3]:
+            problems.append(f"the notice {text!r} {notice} covers the {what} {[x0, y0, x1, y1]} "
+                            "(left, top, right, bottom)")
+    if notice[0] < view[0] - 1 or notice[2] > view[2] + 1 or notice[1] < view[1] - 1 or notice[3] > view[3] + 1:
+        problems.append(f"the notice {text!r} {notice} is not inside the view {view}")
+    below = seen["keep"].get("hint line") or seen["keep"].get("mistake banner")
+    lowest = below[1] if below else view[3]
+    if lowest - notice[3] > 12:
+        problems.append(f"the notice {text!r} {notice} ends {lowest - notice[3]} px above the view's foot line "
+                        f"(at y = {lowest}): higher up it covers the object the experiment changed")
+    return problems
+
+
+@pytest.mark.parametrize("width, height", LAPTOP_SIZES)
+def test_an_applied_experiments_notice_leaves_the_hint_line_in_sight(tab, lessons_server, width, height):
+    """"Applied: …" lay over the view's hint line for the 4 s it shows, at every laptop size."""
+    tab.set_viewport_size({"width": width, "height": height})
+    open_by_address(tab, lessons_server, "04-specular")
+    # an earlier notice first goes: the measure is of the one this click brings
+    tab.evaluate("() => window.trame.state.set('notice', null)")
+    tab.wait_for_selector(".phonglab-notice", state="detached", timeout=20_000)
+    tab.locator(".phonglab-apply").first.click()
+    tab.wait_for_selector(".phonglab-notice", timeout=20_000)
+    tab.evaluate(FRAMES)
+    problems = notice_at_the_foot_problems(tab)
+    assert not problems, f"04-specular at {width}x{height}, after its first experiment's Apply:\n" + "\n".join(problems)
 
 
 #: every animation frame: an image over the view without a picture (a broken image), and the number of frames
@@ -357,3 +408,79 @@ def test_on_a_laptop_the_view_bar_is_one_row_and_its_buttons_keep_their_names(ta
             if hidden:
                 found.append(f"{width}x{height}: words hidden though there is room: {hidden}")
     assert not found, f"{slug}:\n" + "\n".join(found)
+
+#: the least height of a caption's letters as displayed (its font size, CSS px)
+MIN_CAPTION_PX = 11
+#: how each compare panel's caption begins (render/captions.py, model_label)
+CAPTION_STARTS = ("Phong: α = ", "Cook–Torrance: roughness ")
+#: each caption's text as the page shows it (its font size and box), found by its words in the compare view,
+#: and the pictures' sizes there: natural and displayed
+CAPTIONS_JS = """(starts) => {
+  const panel = document.querySelector('.phonglab-compare');
+  const walker = document.createTreeWalker(panel, NodeFilter.SHOW_TEXT);
+  const found = {};
+  for (let node = walker.nextNode(); node; node = walker.nextNode()) {
+    const start = starts.find((s) => node.textContent.trim().startsWith(s));
+    if (!start || found[start]) continue;
+    const range = document.createRange();
+    range.selectNodeContents(node);
+    const r = range.getBoundingClientRect();
+    found[start] = { text: node.textContent.trim(), fontPx: parseFloat(getComputedStyle(node.parentElement).fontSize),
+                     box: [r.left, r.top, r.right, r.bottom].map(Math.round) };
+  }
+  const p = panel.getBoundingClientRect();
+  const pictures = [...panel.querySelectorAll('img')].map((i) => {
+    const b = i.getBoundingClientRect();
+    return { natural: [i.naturalWidth, i.naturalHeight], shown: [Math.round(b.width), Math.round(b.height)] };
+  });
+  return { captions: found, panel: [p.left, p.top, p.right, p.bottom].map(Math.round), pictures };
+}"""
+
+
+@pytest.mark.parametrize("slug", ["06-blinn-phong", "13-physically-based"])
+def test_compare_captions_are_readable_at_laptop_and_desktop_sizes(tab, lessons_server, slug):
+    """The compare view's captions (the model and its lobe's parameters) were drawn into its picture, which the
+    page scaled down: about 7 px tall at 1366x768. They are page text at the page's own size. (Lesson 13's
+    Cook–Torrance caption, the longer, wraps onto two lines at 1280x800.)"""
+    open_by_address(tab, lessons_server, slug)
+    found = []
+    try:
+        tab.locator(".phonglab-compare-toggle").click()
+        for width, height in LAPTOP_SIZES:
+            tab.set_viewport_size({"width": width, "height": height})
+            tab.evaluate(FRAMES)
+            # pictures shown (the last size's, maybe, while this size's are made: the captions' size is the
+            # page's either way, and the pictures are fitted into their boxes)
+            tab.wait_for_function("() => { const c = window.trame.state.get('compare_png'); "
+                                  "return c && c.status === 'ready'; }", timeout=120_000)
+            tab.wait_for_function("() => [...document.querySelectorAll('.phonglab-compare img')]"
+                                  ".every((i) => i.complete && i.naturalWidth > 0)", timeout=30_000)
+            tab.evaluate(FRAMES)
+            seen = tab.evaluate(CAPTIONS_JS, list(CAPTION_STARTS))
+            where = f"{slug} at {width}x{height}"
+            for start in CAPTION_STARTS:
+                caption = seen["captions"].get(start)
+                if caption is None:
+                    found.append(f"{where}: no caption {start!r}… as page text in the compare view; its pictures "
+                                 f"(natural -> displayed px): {seen['pictures']}")
+                    continue
+                if caption["fontPx"] < MIN_CAPTION_PX:
+                    found.append(f"{where}: caption {caption['text']!r} is {caption['fontPx']:.1f} px tall "
+                                 f"(font size), under {MIN_CAPTION_PX} px")
+                x0, y0, x1, y1 = caption["box"]
+                px0, py0, px1, py1 = seen["panel"]
+                if x0 < px0 - 1 or x1 > px1 + 1 or y0 < py0 - 1 or y1 > py1 + 1:
+                    found.append(f"{where}: caption {caption['text']!r} at {caption['box']} is outside the compare "
+                                 f"view {seen['panel']}")
+            small = [p for p in seen["pictures"] if min(p["shown"]) < 120]
+            if small:
+                found.append(f"{where}: a picture is shown smaller than 120 px: {seen['pictures']}")
+            # side by side, both models at one scale (a caption on two lines once shrank its picture)
+            scales = [min(p["shown"][0] / p["natural"][0], p["shown"][1] / p["natural"][1]) for p in seen["pictures"]]
+            if len(scales) > 1 and max(scales) - min(scales) > 0.01:
+                found.append(f"{where}: the pictures are shown at different scales {[round(x, 3) for x in scales]}: "
+                             f"{seen['pictures']}")
+    finally:
+        tab.evaluate("() => window.trame.state.set('view__compare', false)")
+        tab.wait_for_selector(".phonglab-compare", state="detached", timeout=30_000)
+    assert not found, "compare view captions:\n" + "\n".join(found)
