@@ -295,8 +295,13 @@ def build(submit) -> None:
             with html.Div(v_else=True):
                 html.Div("Score: {{ student_result.score }}/{{ student_result.max_score }}",
                          classes="phonglab-student-score font-weight-medium")
-                html.Img(v_if="student_result.picture", src=("student_result.picture",),
-                         alt="your shading, the core's and their difference", classes="phonglab-student-picture",
-                         style="max-width: 100%")
+                # shrunk to the column, where its captions and scale are a few pixels tall: a click shows it
+                # at its own size (the column scrolls sideways), another click shrinks it again
+                with html.Div(v_if="student_result.picture", classes="phonglab-student-picture-box"):
+                    html.Img(src=("student_result.picture",), alt="your shading, the core's and their difference",
+                             title="Click to see the picture at full size; click again to fit it",
+                             classes="phonglab-student-picture",
+                             click="$event.target.classList.toggle('phonglab-student-picture-full')")
+                    html.Div("Click the picture to see it at full size.", classes="phonglab-note")
                 html.Pre("{{ student_result.report }}", classes="phonglab-student-report",
                          style="white-space: pre-wrap; font-size: 11px; max-height: 24em; overflow: auto")

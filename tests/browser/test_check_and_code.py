@@ -70,8 +70,17 @@ def test_pasting_a_correct_shade_gets_full_marks(code_page):
     score = wait_for(lambda: page.locator(".phonglab-student-score").all_inner_texts(), "the grade", timeout=240)
     assert score == ["Score: 100/100"], score
     assert "Total: 100/100" in page.locator(".phonglab-student-report").inner_text()
-    src = page.locator(".phonglab-student-picture").get_attribute("src")
+    picture = page.locator(".phonglab-student-picture")
+    src = picture.get_attribute("src")
     assert src.startswith("data:image/png;base64,"), src[:40]
+    # fitted to the column its captions are a few pixels tall; a click shows it at its own size, another fits it
+    sizes = "e => [e.getBoundingClientRect().width, e.naturalWidth, e.parentElement.clientWidth]"
+    shown, natural, column = picture.evaluate(sizes)
+    assert shown <= column < natural, (shown, natural, column)
+    picture.click()
+    wait_for(lambda: picture.evaluate(sizes)[0] == natural or None, "the picture at its own size")
+    picture.click()
+    wait_for(lambda: picture.evaluate(sizes)[0] <= column or None, "the picture fitted to the column again")
 
 
 def test_without_the_flag_there_is_no_panel(app_page):
