@@ -72,3 +72,23 @@ def test_lesson_3s_letters_do_not_cover_each_other_and_meeting_arrows_share_a_la
         if abs((at + ab) / 2 - (bt + bb) / 2) > 1.0 or bl - ar > 1.5 * font_px:
             problems.append(f"{a} and {b} end together but their letters are not side by side in one label")
     assert not problems, f"{where}:\n" + "\n".join(problems)
+
+
+def test_tips_share_a_label_when_chained_nearer_than_a_letter_and_lone_letters_keep_their_place():
+    from phonglab.render.annotate import font, label_layout, place_labels, share_labels
+
+    tips = [(0.0, 0.0), (10.0, 0.0), (20.0, 0.0), (100.0, 0.0), (112.5, 0.0)]
+    assert share_labels(tips, 12.0) == [[0, 1, 2], [3]] + [[4]], tips
+    assert share_labels(tips, 12.6) == [[0, 1, 2], [3, 4]], tips
+    # a letter alone is placed as place_labels places it, whatever shares a label elsewhere
+    size = (480, 360)
+    labels = [("N", (200.0, 100.0), (0.0, -60.0), (1, 1, 1)), ("L", (203.0, 101.0), (3.0, -59.0), (2, 2, 2)),
+              ("V", (300.0, 200.0), (40.0, -10.0), (3, 3, 3))]
+    layout = label_layout(labels, size)
+    assert [label.letters for label in layout] == [("N", "L"), ("V",)], [label.letters for label in layout]
+    shared, alone = layout
+    assert shared.text == "N, L" and shared.colours == ((1, 1, 1), (2, 2, 2)), (shared.text, shared.colours)
+    assert shared.boxes["N"][2] < shared.boxes["L"][0], ("N should stand left of L, apart", shared.boxes)
+    extent = max(font(15, bold=True).getbbox("V", anchor="mm")[2:])  # V's half extent at 360 px: 15 px letters
+    lone = place_labels([(300.0, 200.0)], [(40.0, -10.0)], [0.45 * 15 + 0.6 * extent], [extent + 1], size)[0]
+    assert np.allclose(alone.centre, lone, atol=0.01), (alone.centre, lone)

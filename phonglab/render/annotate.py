@@ -117,7 +117,7 @@ def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
                                   and abs(centre[1] - other[1]) < hy + other_hy + LABEL_PAD)
                              for other, other_hx, other_hy in placed)
                 strays = sum(float(np.hypot(*(other - centre))) <= r + 1.0 for other in others)
-                if wide > 0:  # the label's middle line, from its left end's round to its right end's
+                if wide > 0:  # a wide label: its middle line, widened by half its height on every side
                     line = (centre - (wide, 0.0), centre + (wide, 0.0))
                     crosses = sum(_between_segments(*line, *shafts[j]) < hy for j in apart)
                 else:
@@ -205,8 +205,8 @@ def label_layout(labels, size) -> list[Label]:
     Arrows whose tips lie nearer than :data:`TOGETHER` font sizes share one
     label (:func:`share_labels`): their letters side by side, ``"N, L, R"``,
     each in its arrow's colour, past the tips' middle along their mean
-    direction. Every other letter is placed about its own tip alone, as
-    before (:func:`place_labels`).
+    direction. Every other letter is placed about its own tip alone
+    (:func:`place_labels`), as if no label were shared.
     """
     size_px = max(12, round(size[1] / 24))
     fnt = font(size_px, bold=True)
@@ -230,10 +230,9 @@ def label_layout(labels, size) -> list[Label]:
     centres = place_labels(anchors, directions, offsets, halves, size)
     out = []
     for group, centre in zip(groups, centres):
-        # inside the image
         half_y = 0.5 * max(max(fnt.getbbox(labels[i][0], anchor="mm")[2:]) for i in group) + 2
         half_x = half_y if len(group) == 1 else 0.5 * fnt.getlength(JOIN.join(labels[i][0] for i in group)) + 2
-        centre = np.clip(centre, [half_x, half_y], [size[0] - half_x, size[1] - half_y])
+        centre = np.clip(centre, [half_x, half_y], [size[0] - half_x, size[1] - half_y])  # inside the image
         out.append(Label([labels[i][0] for i in group], [labels[i][3] for i in group], centre, fnt, stroke))
     return out
 
