@@ -3,8 +3,9 @@
 :func:`phonglab.render.annotate.draw_labels` places each letter about its own tip
 (:func:`~phonglab.render.annotate.place_labels`). Every letter is checked against the tips the view
 projects: within its third ring of places, and nearer its own tip than any other arrow's (a reader
-takes a letter for its nearest tip's), unless two tips are one place (:data:`SAME_TIP`). The page's
-own letters are checked in a browser: ``tests/browser/test_letters.py``.
+takes a letter for its nearest tip's), unless two tips are one place (:data:`SAME_TIP`) or share a
+label, "N, L, R" (tips nearer than :data:`TOGETHER` font sizes: lesson 3's probe). The page's own
+letters are checked in a browser: ``tests/browser/test_letters.py``.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 import pytest
 
 from phonglab.render import SceneView
-from phonglab.render.annotate import LABEL_RINGS, SAME_TIP, label_places, place_labels
+from phonglab.render.annotate import LABEL_RINGS, SAME_TIP, font, label_layout, place_labels
 from phonglab.scene.lessons import catalog
 
 LESSONS = Path(__file__).resolve().parents[1] / "lessons"
@@ -24,20 +25,25 @@ SIZE = (480, 360)
 
 
 def _problems(labels, size, what) -> list[str]:
-    centres, extents = label_places(labels, size)
     tips = {text: np.asarray(xy, dtype=float) for text, xy, _, _ in labels}
     height = size[1]
     font_px = max(12, round(height / 24))
     problems = []
-    for (text, xy, _, _), centre, extent in zip(labels, centres, extents):
-        own = float(np.hypot(*(centre - tips[text])))
-        reach = 0.45 * font_px + 0.6 * extent + (LABEL_RINGS - 1) * (extent + 1) + 1
-        if own > reach:
-            problems.append(f"{what}: {text} is {own:.1f} px from its tip (at most {reach:.1f})")
-        for other, tip in tips.items():
-            apart = float(np.hypot(*(tip - tips[text])))
-            if other != text and apart >= SAME_TIP and float(np.hypot(*(centre - tip))) <= own:
-                problems.append(f"{what}: {text} is nearer {other}'s tip than its own ({own:.1f} px)")
+    for label in label_layout(labels, size):
+        # a letter of a shared label stands up to half the label's width off its centre
+        aside = 0.5 * font(font_px, bold=True).getlength(label.text) if len(label.letters) > 1 else 0.0
+        for text, (left, top, right, bottom) in label.boxes.items():
+            centre = np.array([(left + right) / 2, (top + bottom) / 2])
+            extent = max(font(font_px, bold=True).getbbox(text, anchor="mm")[2:])
+            own = float(np.hypot(*(centre - tips[text])))
+            reach = 0.45 * font_px + 0.6 * extent + (LABEL_RINGS - 1) * (extent + 1) + 1 + 2 * aside
+            if own > reach:
+                problems.append(f"{what}: {text} is {own:.1f} px from its tip (at most {reach:.1f})")
+            for other, tip in tips.items():
+                apart = float(np.hypot(*(tip - tips[text])))
+                if (other not in label.letters and apart >= SAME_TIP
+                        and float(np.hypot(*(centre - tip))) <= own):
+                    problems.append(f"{what}: {text} is nearer {other}'s tip than its own ({own:.1f} px)")
     return problems
 
 
@@ -84,4 +90,5 @@ def test_a_letter_is_not_put_on_another_arrow():
     # off the long arrow's line by more than half a letter's box, and still nearest its own tip
     assert abs(short[1] - 100.0) > 6.0 or short[0] > 200.0 + 6.0, ("the letter lies on the long arrow", centres)
     assert np.hypot(*(short - tips[1])) < np.hypot(*(short - tips[0])), centres
+
 

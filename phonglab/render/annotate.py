@@ -30,6 +30,12 @@ LABEL_RINGS = 3
 SAME_TIP = 3.0
 #: pixels kept free between two letters' boxes
 LABEL_PAD = 2.0
+#: tips nearer than this many font sizes share one label, "N, L, R": each letter past its own tip would
+#: fall on the others' (lesson 3's probe, θ ≈ 1.9° from the mirror direction, puts N, L and R there)
+TOGETHER = 1.0
+#: what stands between the letters of a shared label, and its colour (each letter keeps its arrow's)
+JOIN = ", "
+JOIN_COLOR = (225, 225, 230)
 
 
 def _to_segment(point, a, b) -> float:
@@ -40,8 +46,18 @@ def _to_segment(point, a, b) -> float:
     return float(np.hypot(*(point - a - t * u)))
 
 
+def _between_segments(a0, a1, b0, b1) -> float:
+    """Pixels between the segment ``a0``–``a1`` and the segment ``b0``–``b1`` (0 where they cross)."""
+    def side(p, q, r):
+        return float((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]))
+
+    if side(a0, a1, b0) * side(a0, a1, b1) < 0 and side(b0, b1, a0) * side(b0, b1, a1) < 0:
+        return 0.0
+    return min(_to_segment(a0, b0, b1), _to_segment(a1, b0, b1), _to_segment(b0, a0, a1), _to_segment(b1, a0, a1))
+
+
 def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
-    """Where each letter's centre goes: about its own tip, never nearer another arrow's tip.
+    """Where each label's centre goes: about its own tip, never nearer another arrow's tip.
 
     Parameters
     ----------
@@ -50,27 +66,30 @@ def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
     directions : sequence of (dx, dy)
         Each arrow on the image, its tip less its base (zero: seen end-on, the letter goes above).
     offsets : sequence of float
-        How far past its tip each letter's centre goes first, in pixels.
-    halves : sequence of float
-        Half the side of each letter's box, in pixels.
+        How far past its tip each label's centre goes first, in pixels.
+    halves : sequence of float or (float, float)
+        Half the side of each label's square box, or half its width and
+        half its height (a shared label, "N, L, R", is wider than tall), in pixels.
     size : (width, height)
         The image's size.
 
     Returns
     -------
     list of ndarray
-        Each letter's centre.
+        Each label's centre.
 
     Notes
     -----
-    The first place is ``offset`` past the tip along the arrow. Where it
-    covers a letter placed before, lies outside the image, is as near
+    The first place is ``offset`` past the tip along the arrow (a wide
+    label goes further by the part of its width that lies along that
+    way: ``(half width − half height)·|cos|``). Where it
+    covers a label placed before, lies outside the image, is as near
     another tip as its own (a letter reads as its nearest tip's; tips
     within :data:`SAME_TIP` are one) or lies on another arrow (its box over
-    the line from that arrow's base to its tip), the letter turns about its own tip by
+    the line from that arrow's base to its tip), the label turns about its own tip by
     :data:`LABEL_TURNS`, then a ring half a box further out; with no free
     place in :data:`LABEL_RINGS` rings, the place covering, straying and
-    crossing least is taken. A letter never wanders off to another arrow.
+    crossing least is taken. A label never wanders off to another arrow.
     The page places its letters by the same rules (``placeLetter`` in
     ``app/www/phonglab.js``).
     """
@@ -78,8 +97,10 @@ def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
     tips = [np.asarray(t, dtype=float) for t in tips]
     # each arrow on the image, from its base (the probe) to its tip: a direction is the tip less the base
     shafts = [(tip - np.asarray(direction, dtype=float), tip) for tip, direction in zip(tips, directions)]
-    placed: list[tuple[np.ndarray, float]] = []
+    placed: list[tuple[np.ndarray, float, float]] = []
     for tip, direction, offset, half in zip(tips, directions, offsets, halves):
+        hx, hy = (float(half), float(half)) if np.ndim(half) == 0 else (float(half[0]), float(half[1]))
+        wide = hx - hy  # how much wider than tall: 0 for a letter alone
         d = np.asarray(direction, dtype=float)
         norm = float(np.hypot(*d))
         d = d / norm if norm > 1e-9 else np.array([0.0, -1.0])
@@ -87,15 +108,21 @@ def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
         others = [tips[j] for j in apart]
         best = None
         for ring in range(LABEL_RINGS):
-            r = offset + ring * half
             for turn in LABEL_TURNS:
                 c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
-                centre = tip + r * np.array([c * d[0] - s * d[1], s * d[0] + c * d[1]])
-                covers = sum(bool(np.all(np.abs(centre - other) < half + other_half + LABEL_PAD))
-                             for other, other_half in placed)
+                way = np.array([c * d[0] - s * d[1], s * d[0] + c * d[1]])
+                r = offset + ring * hy + wide * abs(way[0])
+                centre = tip + r * way
+                covers = sum(bool(abs(centre[0] - other[0]) < hx + other_hx + LABEL_PAD
+                                  and abs(centre[1] - other[1]) < hy + other_hy + LABEL_PAD)
+                             for other, other_hx, other_hy in placed)
                 strays = sum(float(np.hypot(*(other - centre))) <= r + 1.0 for other in others)
-                crosses = sum(_to_segment(centre, *shafts[j]) < half for j in apart)
-                outside = not (half <= centre[0] <= width - half and half <= centre[1] <= height - half)
+                if wide > 0:  # a wide label: its middle line, widened by half its height on every side
+                    line = (centre - (wide, 0.0), centre + (wide, 0.0))
+                    crosses = sum(_between_segments(*line, *shafts[j]) < hy for j in apart)
+                else:
+                    crosses = sum(_to_segment(centre, *shafts[j]) < hy for j in apart)
+                outside = not (hx <= centre[0] <= width - hx and hy <= centre[1] <= height - hy)
                 cost = 3 * covers + 2 * strays + 2 * outside + crosses + ring
                 if best is None or cost < best[0]:
                     best = (cost, centre)
@@ -103,19 +130,111 @@ def place_labels(tips, directions, offsets, halves, size) -> list[np.ndarray]:
                     break
             if best[0] == ring:
                 break
-        placed.append((best[1], half))
-    return [centre for centre, _ in placed]
+        placed.append((best[1], hx, hy))
+    return [centre for centre, _, _ in placed]
 
 
-def label_places(labels, size) -> tuple[list[np.ndarray], list[float]]:
-    """The centres :func:`draw_labels` gives ``labels`` on an image of ``size`` (width, height), and their half extents."""
+def share_labels(tips, together: float) -> list[list[int]]:
+    """Which arrows share one label: tips nearer than ``together`` pixels, chained, in drawing order.
+
+    Parameters
+    ----------
+    tips : sequence of (x, y)
+        The arrow tips on the image, in drawing order.
+    together : float
+        Tips nearer than this are one place for their letters (about a letter's size).
+
+    Returns
+    -------
+    list of list of int
+        Each label's arrows (indices into ``tips``, ascending), ordered by their first arrow.
+    """
+    tips = [np.asarray(t, dtype=float) for t in tips]
+    groups: list[list[int]] = []
+    for i, tip in enumerate(tips):
+        near = [g for g in groups if any(float(np.hypot(*(tips[j] - tip))) < together for j in g)]
+        groups = [g for g in groups if g not in near] + [sorted([j for g in near for j in g] + [i])]
+    return sorted(groups)
+
+
+class Label:
+    """One label at the arrow tips as an image shows it: a letter, or the letters of arrows that meet, "N, L, R".
+
+    Attributes
+    ----------
+    letters : tuple of str
+        The letters, in drawing order.
+    colours : tuple of (r, g, b)
+        Each letter's colour (its arrow's).
+    pieces : list of (text, (x, y), rgb, anchor)
+        What is drawn: each letter and each :data:`JOIN` between two, its
+        place on the image as Pillow's ``anchor`` names it, and its colour. A
+        letter alone is centred on :attr:`centre` (``"mm"``); the pieces of a
+        shared label are set from their middle left (``"lm"``).
+    boxes : dict
+        letter -> its own box ``(left, top, right, bottom)`` on the image (the glyph's ink, outline included).
+    centre : ndarray
+        The label's centre.
+    """
+
+    def __init__(self, letters, colours, centre, fnt, stroke: int):
+        self.letters, self.colours, self.centre = tuple(letters), tuple(colours), centre
+        texts = [JOIN if i % 2 else self.letters[i // 2] for i in range(2 * len(self.letters) - 1)]
+        colour = [JOIN_COLOR if i % 2 else self.colours[i // 2] for i in range(len(texts))]
+        x = float(centre[0]) - fnt.getlength("".join(texts)) / 2
+        self.pieces, self.boxes = [], {}
+        for i, text in enumerate(texts):
+            start = x + fnt.getlength("".join(texts[:i]))
+            if len(texts) == 1:
+                self.pieces.append((text, (float(centre[0]), float(centre[1])), colour[i], "mm"))
+            else:
+                self.pieces.append((text, (start, float(centre[1])), colour[i], "lm"))
+            if not i % 2:
+                left, top, right, bottom = fnt.getbbox(text, anchor="lm", stroke_width=stroke)
+                self.boxes[text] = (start + left, centre[1] + top, start + right, centre[1] + bottom)
+
+    @property
+    def text(self) -> str:
+        """The label as one string, ``"N, L, R"``."""
+        return JOIN.join(self.letters)
+
+
+def label_layout(labels, size) -> list[Label]:
+    """The labels :func:`draw_labels` draws for ``labels`` on an image of ``size`` (width, height).
+
+    Arrows whose tips lie nearer than :data:`TOGETHER` font sizes share one
+    label (:func:`share_labels`): their letters side by side, ``"N, L, R"``,
+    each in its arrow's colour, past the tips' middle along their mean
+    direction. Every other letter is placed about its own tip alone
+    (:func:`place_labels`), as if no label were shared.
+    """
     size_px = max(12, round(size[1] / 24))
     fnt = font(size_px, bold=True)
-    # each letter's half extent from its centre (a box anchored at its middle ends there)
-    extents = [max(fnt.getbbox(text, anchor="mm")[2:]) for text, *_ in labels]
-    centres = place_labels([xy for _, xy, _, _ in labels], [d for _, _, d, _ in labels],
-                           [0.45 * size_px + 0.6 * e for e in extents], [e + 1 for e in extents], size)
-    return centres, extents
+    stroke = max(1, size_px // 10)
+    tips = [np.asarray(xy, dtype=float) for _, xy, _, _ in labels]
+    groups = share_labels(tips, TOGETHER * size_px)
+    anchors, directions, offsets, halves = [], [], [], []
+    for group in groups:
+        # each letter's half extent from its centre (a box anchored at its middle ends there)
+        extent = max(max(fnt.getbbox(labels[i][0], anchor="mm")[2:]) for i in group)
+        anchors.append(np.mean([tips[i] for i in group], axis=0))
+        # the arrows share their base (the probe): the mean direction ends at the tips' middle
+        directions.append(np.mean([np.asarray(labels[i][2], dtype=float) for i in group], axis=0))
+        offsets.append(0.45 * size_px + 0.6 * extent)
+        if len(group) == 1:
+            halves.append(extent + 1)
+        else:
+            text = JOIN.join(labels[i][0] for i in group)
+            left, _, right, _ = fnt.getbbox(text, anchor="mm")
+            halves.append((max(-left, right) + 1, extent + 1))
+    centres = place_labels(anchors, directions, offsets, halves, size)
+    out = []
+    for group, centre in zip(groups, centres):
+        half_y = 0.5 * max(max(fnt.getbbox(labels[i][0], anchor="mm")[2:]) for i in group) + 2
+        half_x = half_y if len(group) == 1 else 0.5 * fnt.getlength(JOIN.join(labels[i][0] for i in group)) + 2
+        centre = np.clip(centre, [half_x, half_y], [size[0] - half_x, size[1] - half_y])  # inside the image
+        out.append(Label([labels[i][0] for i in group], [labels[i][3] for i in group], centre, fnt, stroke))
+    return out
 
 
 def draw_labels(image: np.ndarray, labels) -> np.ndarray:
@@ -132,22 +251,21 @@ def draw_labels(image: np.ndarray, labels) -> np.ndarray:
     Returns
     -------
     ndarray
-        A new image with the labels, each about its own tip (:func:`place_labels`).
+        A new image with the labels, each about its own tip; the letters of
+        arrows whose tips meet share one label, "N, L, R" (:func:`label_layout`).
     """
     height = image.shape[0]
     size = max(12, round(height / 24))
     fnt = font(size, bold=True)
     out = Image.fromarray(image)
     draw = ImageDraw.Draw(out)
-    centres, extents = label_places(labels, (image.shape[1], height))
-    for (text, _, _, rgb), centre, extent in zip(labels, centres, extents):
-        half = 0.5 * extent + 2
-        centre = np.clip(centre, [half, half], [image.shape[1] - half, height - half])  # inside the image
-        # a dark outline keeps the letter readable on bright highlights
-        draw.text(
-            tuple(centre), text, font=fnt, anchor="mm", fill=tuple(int(c) for c in rgb),
-            stroke_width=max(1, size // 10), stroke_fill=(15, 15, 20),
-        )
+    for label in label_layout(labels, (image.shape[1], height)):
+        for text, at, rgb, anchor in label.pieces:
+            # a dark outline keeps the letter readable on bright highlights
+            draw.text(
+                at, text, font=fnt, anchor=anchor, fill=tuple(int(c) for c in rgb),
+                stroke_width=max(1, size // 10), stroke_fill=(15, 15, 20),
+            )
     return np.asarray(out)
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from phonglab.render import framing, glyphs
+from phonglab.render import annotate, glyphs
 from phonglab.render.probe import locate_probe, probe_vectors
 
 
@@ -75,19 +75,19 @@ class ProbeArrows:
             entries.append((letter, meaning, colour))
         return labels, entries
 
-    def marks(self, project, height: int) -> dict[str, tuple[tuple[float, float], tuple[float, float, float, float]]]:
+    def marks(self, project, size) -> dict[str, tuple[tuple[float, float], tuple[float, float, float, float]]]:
         """letter -> ``((x, y), (left, top, right, bottom))``: each shown tip and its letter's box on an image.
 
-        ``project(world) -> (x, y)`` gives pixels of an image ``height`` tall.
+        ``project(world) -> (x, y)`` gives pixels of an image of ``size``
+        (width, height). The boxes are where
+        :func:`~phonglab.render.annotate.draw_labels` draws the letters
+        (:func:`~phonglab.render.annotate.label_layout`): a letter's own
+        glyph, in a label shared with the arrows whose tips meet its own or alone.
         """
-        letters = self.shown()
-        _, offset, half = framing.label_metrics(height, letters or ["N"])
-        base = project(self.point)
-        marks = {}
-        for letter in letters:
-            tip = project(self.tip(letter))
-            marks[letter] = ((float(tip[0]), float(tip[1])), framing.label_box(tip, base, offset, half))
-        return marks
+        labels, _ = self.image_labels(project)
+        tips = {letter: (float(xy[0]), float(xy[1])) for letter, xy, _, _ in labels}
+        return {letter: (tips[letter], tuple(float(c) for c in box))
+                for label in annotate.label_layout(labels, size) for letter, box in label.boxes.items()}
 
     def legend(self) -> list[tuple[str, str, str]]:
         """(letter, meaning, ``"#rrggbb"``) per letter shown."""

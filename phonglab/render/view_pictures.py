@@ -28,14 +28,15 @@ class ViewPictures:
         -------
         dict
             letter -> ``((x, y), (left, top, right, bottom))``: the projected
-            tip and the box of its letter as
-            :func:`~phonglab.render.annotate.draw_labels` places it (before
-            any nudging), in image pixels with row 0 at the top.
+            tip and the box of its letter where
+            :func:`~phonglab.render.annotate.draw_labels` draws it (moved
+            aside from another letter, or set beside the letters of arrows
+            whose tips meet its own), in image pixels with row 0 at the top.
         """
         self._fit_view_angle()
         self.renderer.ResetCameraClippingRange()
         height = self.size[1]
-        return self._arrows.marks(lambda world: self.to_image(world, height), height)
+        return self._arrows.marks(lambda world: self.to_image(world, height), tuple(self.size))
 
     def pick(self, display_x: float, display_y: float):
         """The mesh point under a display position, or None.

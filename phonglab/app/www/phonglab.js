@@ -288,12 +288,17 @@ window.phonglab = {
     // end-on, like V). Where that place covers a letter placed before, lies as near another
     // arrow's tip as its own (a letter reads as its nearest tip's) or on another arrow, the letter
     // turns about its own tip, then a ring further out: it never wanders off to another arrow.
+    // Arrows whose tips (nearly) meet, N, L and R at lesson 3's probe, share one label, "N, L, R":
+    // their letters side by side in their arrows' colours, placed as one wider letter about the
+    // tips' middle (render/annotate.label_layout does the same on figures).
     const LETTER_GAP = 11; // pixels from the tip to the letter's centre
     const LETTER_BOX = 17; // pixels a letter keeps free around its centre
     const LETTER_STEP = 7; // pixels from one ring of places about a tip to the next
     const LETTER_RINGS = 3;
     const LETTER_TURNS = [0, 45, -45, 90, -90, 135, -135, 180]; // degrees from the arrow's direction
     const SAME_TIP = 3; // pixels: tips nearer than this are one place (a letter cannot tell them apart)
+    const LETTER_TOGETHER = 15; // pixels, the letters' font size: tips nearer than this share one label
+    const LETTER_JOIN = ", "; // between the letters of a shared label
     // a vtk.js camera and the server's {position, view_angle}: the same to a millionth
     function sameCamera(camera, server) {
       const a = camera.getPosition(), b = server.position;
@@ -307,22 +312,34 @@ window.phonglab = {
       const t = uu > 0 ? Math.min(1, Math.max(0, ((x - a[0]) * ux + (y - a[1]) * uy) / uu)) : 0;
       return Math.hypot(x - a[0] - t * ux, y - a[1] - t * uy);
     }
+    // pixels between the segments a0-a1 and b0-b1 (0 where they cross)
+    function betweenSegments(a0, a1, b0, b1) {
+      const side = (p, q, r) => (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+      if (side(a0, a1, b0) * side(a0, a1, b1) < 0 && side(b0, b1, a0) * side(b0, b1, a1) < 0) return 0;
+      return Math.min(toSegment(a0[0], a0[1], b0, b1), toSegment(a1[0], a1[1], b0, b1),
+                      toSegment(b0[0], b0[1], a0, a1), toSegment(b1[0], b1[1], a0, a1));
+    }
     // the place of a letter whose tip is `tip` and arrow runs along (dx, dy): the first free place about
     // its tip, nearest first (covering no letter, nearer no other tip, on no other arrow); else the one
-    // that covers, strays and crosses least. Twin of render/annotate.place_labels (figures).
-    function placeLetter(tip, dx, dy, otherTips, placed, otherShafts = []) {
+    // that covers, strays and crosses least. `wide`: pixels a shared label's half width exceeds a
+    // letter's (0 for a letter alone); it goes that much further along a sideways turn.
+    // Twin of render/annotate.place_labels (figures).
+    function placeLetter(tip, dx, dy, otherTips, placed, otherShafts = [], wide = 0) {
       let best = null;
       for (let ring = 0; ring < LETTER_RINGS; ring++) {
-        const r = LETTER_GAP + ring * LETTER_STEP;
         for (const turn of LETTER_TURNS) {
           const a = (turn * Math.PI) / 180, c = Math.cos(a), s = Math.sin(a);
-          const x = tip[0] + r * (c * dx - s * dy), y = tip[1] + r * (s * dx + c * dy);
-          const covers = placed.filter((o) => Math.abs(o.x - x) < LETTER_BOX && Math.abs(o.y - y) < LETTER_BOX).length;
+          const ux = c * dx - s * dy, uy = s * dx + c * dy;
+          const r = LETTER_GAP + ring * LETTER_STEP + wide * Math.abs(ux);
+          const x = tip[0] + r * ux, y = tip[1] + r * uy;
+          const covers = placed.filter((o) => Math.abs(o.x - x) < LETTER_BOX + wide + o.wide
+                                              && Math.abs(o.y - y) < LETTER_BOX).length;
           const strays = otherTips.filter((o) => Math.hypot(o[0] - x, o[1] - y) <= r + 1).length;
-          const crosses = otherShafts.filter(([a0, b0]) => toSegment(x, y, a0, b0) < LETTER_BOX / 2).length;
-          if (!covers && !strays && !crosses) return { x, y };
+          const crosses = otherShafts.filter(([a0, b0]) => (wide > 0
+            ? betweenSegments([x - wide, y], [x + wide, y], a0, b0) : toSegment(x, y, a0, b0)) < LETTER_BOX / 2).length;
+          if (!covers && !strays && !crosses) return { x, y, wide };
           const cost = 3 * covers + 2 * strays + crosses + ring;
-          if (!best || cost < best.cost) best = { x, y, cost };
+          if (!best || cost < best.cost) best = { x, y, wide, cost };
         }
       }
       return best;
@@ -391,25 +408,55 @@ window.phonglab = {
             const d = renderer.worldToNormalizedDisplay(p[0], p[1], p[2], aspect);
             return [canvas.offsetLeft + d[0] * w, canvas.offsetTop + (1 - d[1]) * h];
           };
-          const placed = [];
           // a letter whose arrow tip the mesh hides (the server casts a ray to it) is not drawn
-          const shown = (this.tips || []).filter((x) => !x.behind).map((t) => ({ t, base: screen(t.base), tip: screen(t.tip) }));
-          for (const { t, base, tip } of shown) {
+          const shown = (this.tips || []).filter((x) => !x.behind)
+            .map((t, i) => ({ t, i, base: screen(t.base), tip: screen(t.tip) }));
+          // arrows whose tips (nearly) meet share one label: tips nearer than LETTER_TOGETHER, chained
+          let labels = [];
+          for (const s of shown) {
+            const near = labels.filter((g) => g.some((o) => Math.hypot(o.tip[0] - s.tip[0], o.tip[1] - s.tip[1]) < LETTER_TOGETHER));
+            labels = labels.filter((g) => !near.includes(g)).concat([near.flat().concat([s]).sort((a, b) => a.i - b.i)]);
+          }
+          labels.sort((a, b) => a[0].i - b[0].i);
+          // the spans: each label's letters, with a join between two (a letter in its arrow's colour)
+          const pieces = [];
+          labels.forEach((g, label) => g.forEach((s, k) => {
+            if (k) pieces.push({ label, s: null });
+            pieces.push({ label, s });
+          }));
+          while (layer.children.length > pieces.length) layer.lastChild.remove();
+          pieces.forEach((piece, n) => {
+            let span = layer.children[n];
+            if (!span) { span = document.createElement("span"); layer.appendChild(span); }
+            span.className = piece.s ? "phonglab-letter" : "phonglab-letter-join";
+            span.textContent = piece.s ? piece.s.t.letter : LETTER_JOIN;
+            if (piece.s) span.dataset.letter = piece.s.t.letter; else delete span.dataset.letter;
+            span.dataset.label = String(piece.label);
+            span.style.color = piece.s ? piece.s.t.color : "";
+            piece.span = span;
+          });
+          const placed = [];
+          labels.forEach((g, label) => {
+            const mine = pieces.filter((p) => p.label === label);
+            // a shared label's width as the page draws it (a letter alone is placed as before)
+            const width = g.length > 1 ? mine.reduce((w, p) => w + p.span.offsetWidth, 0) : 0;
+            const tip = [0, 1].map((k) => g.reduce((sum, o) => sum + o.tip[k], 0) / g.length);
+            const base = [0, 1].map((k) => g.reduce((sum, o) => sum + o.base[k], 0) / g.length);
             let dx = tip[0] - base[0], dy = tip[1] - base[1];
             const length = Math.hypot(dx, dy);
             if (length < 4) { dx = 0; dy = -1; } else { dx /= length; dy /= length; }
-            const apart = shown.filter((o) => Math.hypot(o.tip[0] - tip[0], o.tip[1] - tip[1]) >= SAME_TIP);
-            placed.push({ t, ...placeLetter(tip, dx, dy, apart.map((o) => o.tip), placed, apart.map((o) => [o.base, o.tip])) });
-          }
-          while (layer.children.length > placed.length) layer.lastChild.remove();
-          placed.forEach((label, i) => {
-            let span = layer.children[i];
-            if (!span) { span = document.createElement("span"); span.className = "phonglab-letter"; layer.appendChild(span); }
-            span.textContent = label.t.letter;
-            span.dataset.letter = label.t.letter;
-            span.style.color = label.t.color;
-            span.style.left = `${label.x.toFixed(1)}px`;
-            span.style.top = `${label.y.toFixed(1)}px`;
+            const apart = shown.filter((o) => !g.includes(o) && Math.hypot(o.tip[0] - tip[0], o.tip[1] - tip[1]) >= SAME_TIP);
+            const at = placeLetter(tip, dx, dy, apart.map((o) => o.tip), placed, apart.map((o) => [o.base, o.tip]),
+                                   Math.max(0, width / 2 - LETTER_BOX / 2));
+            placed.push(at);
+            // the pieces side by side, centred on the label's place (each span is centred on its left, top)
+            let left = at.x - width / 2;
+            for (const p of mine) {
+              const w = g.length > 1 ? p.span.offsetWidth : 0;
+              p.span.style.left = `${(left + w / 2).toFixed(1)}px`;
+              p.span.style.top = `${at.y.toFixed(1)}px`;
+              left += w;
+            }
           });
         },
       },
