@@ -63,6 +63,43 @@ def test_check_question_gives_feedback_then_offers_the_explanation(code_page):
     wait_for(lambda: page.locator(".phonglab-answer").count() == 1, "the explanation")
 
 
+def test_the_feedback_is_scrolled_into_sight_when_the_check_button_was_at_the_columns_foot(browser, code_server):
+    with open_tab(browser, code_server, height=600) as tab:
+        page = tab.page
+        page.wait_for_selector(".phonglab-check-choice", timeout=30_000)
+        # the Check button at the very foot of the lesson column, as a student who just read the question has it
+        page.locator(".phonglab-check-btn").evaluate("b => b.scrollIntoView({block: 'end'})")
+        page.locator(".phonglab-check-choice", has_text="-1").locator("input").check()
+        page.locator(".phonglab-check-btn").click()
+        wait_for(lambda: page.locator(".phonglab-check-feedback").count() == 1, "the feedback")
+        seen = """f => { const r = f.getBoundingClientRect();
+                          let c = f.parentElement; while (c && getComputedStyle(c).overflowY !== 'auto') c = c.parentElement;
+                          const box = c ? c.getBoundingClientRect() : {top: 0, bottom: innerHeight};
+                          return [r.top, r.bottom, box.top, Math.min(box.bottom, innerHeight)]; }"""
+        feedback = page.locator(".phonglab-check-feedback")
+        last = []
+
+        def in_sight():
+            last[:] = feedback.evaluate(seen)
+            top, bottom, column_top, column_bottom = last
+            return column_top <= top and bottom <= column_bottom + 1
+
+        if not wait_for_quietly(in_sight, timeout=10):
+            pytest.fail(f"the feedback is out of sight: feedback top, bottom and column top, bottom {last}")
+
+
+def wait_for_quietly(predicate, timeout):
+    """True once ``predicate()`` is, False after ``timeout`` seconds."""
+    import time
+
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.1)
+    return False
+
+
 def test_pasting_a_correct_shade_gets_full_marks(code_page):
     page = code_page.page
     page.locator(".phonglab-student-code-text textarea").fill(CORRECT.read_text())

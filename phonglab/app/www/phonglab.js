@@ -573,6 +573,27 @@ const VIEW_NAME = "The scene in 3D: drag to turn it, the wheel zooms, a click mo
     .observe(document.documentElement, { childList: true, subtree: true, characterData: true });
 })();
 
+// The check question's feedback comes from the server under the Check button, often below the
+// column's fold at laptop sizes: once it shows (or changes) after a press of Check, the column
+// scrolls just enough to show it.
+(function () {
+  let asked = 0;
+  document.addEventListener("click", (event) => {
+    if (event.target && event.target.closest && event.target.closest(".phonglab-check-btn")) asked = Date.now();
+  }, true);
+  const answered = (record) => {
+    const node = record.target.nodeType === 1 ? record.target : record.target.parentElement;
+    return node && node.closest && node.closest(".phonglab-check");
+  };
+  new MutationObserver((records) => {
+    if (!asked || Date.now() - asked > 30000 || !records.some(answered)) return;
+    const feedback = document.querySelector(".phonglab-check-feedback");
+    if (!feedback) return;
+    asked = 0;
+    feedback.scrollIntoView({ block: "nearest", behavior: "smooth" });
+  }).observe(document.documentElement, { childList: true, subtree: true, characterData: true });
+})();
+
 // A drag that turns the view ends with a click event too; only a click that
 // did not move may pick the probe. Capturing listeners on the document run
 // before the view's own click handler and stop a moved click there.
