@@ -57,8 +57,19 @@ def test_only_a_slider_with_a_key_step_takes_the_arrow_keys():
     assert attributes["name"] == "shininess α" and "keydown_capture" in attributes, attributes
     handler = key_step_handler(shininess)
     assert '"' not in handler and f"* {ctl.SHININESS_KEY_STEP!r}" in handler, handler
-    others = [c for c in widgets.values() if c.kind == "slider" and c is not shininess]
+    bias = widgets["shadow_bias"]
+    assert "keydown_capture" in slider_attributes(bias) and f"* {ctl.SHADOW_BIAS_KEY_STEP!r}" in key_step_handler(bias)
+    others = [c for c in widgets.values() if c.kind == "slider" and c not in (shininess, bias)]
     assert others and all(set(slider_attributes(c)) == {"name"} for c in others), others
+
+
+def test_the_shadow_offset_reaches_leaking_in_tens_of_key_presses_and_a_drag_still_finds_0_001():
+    """Lesson 14's offset slider moved 0.001 per arrow key: 0.5, where light leaks, was 500 presses away."""
+    widgets = {c.path: c for c in ctl.scene_controls(ENTRIES[0].scene)}
+    bias = widgets["shadow_bias"]
+    presses = (0.5 - bias.low) / (bias.key_step or bias.step)
+    assert presses <= 60, (bias.low, bias.high, bias.step, bias.key_step, presses)
+    assert bias.step == 0.001, bias  # the lesson's 0.001, which removes the acne, is a step of a drag
 
 
 #: characters that act instead of showing: NUL, escape, a right-to-left override, a zero-width joiner, a line separator

@@ -54,6 +54,8 @@ DISPLAYS = (("srgb", "sRGB"), ("linear", "linear (raw)"))  # short: the chosen i
 EXPOSURE_RANGE = (0.05, 4.0)
 #: the shadow-ray offset slider, scene units: 0 shows acne, the upper end light leaking (a file allows up to 10)
 SHADOW_BIAS_SLIDER = (0.0, 1.0)
+#: one arrow key on it: 0.01, so 0.5 (leaking) is 50 presses away, not 500; dragging still snaps to 0.001
+SHADOW_BIAS_KEY_STEP = 0.01
 #: the shininess slider spans α = 10**0 .. 10**3
 SHININESS_LOG_RANGE = (0.0, 3.0)
 #: one arrow key on the shininess slider: 0.03 in log10 α, α × 1.07 (dragging still snaps to 0.01)
@@ -338,7 +340,8 @@ def _shadow_controls(read_field) -> list[Control]:
         Control(path="shadow_bias", label="shadow-ray offset (bias)", kind="slider",
                 read=lambda scene, options: float(scene.shadow_bias),
                 write=lambda scene, value, options: (scene.replace("shadow_bias", value), options),
-                low=SHADOW_BIAS_SLIDER[0], high=SHADOW_BIAS_SLIDER[1], step=0.001, fmt="{:.3f}", group="Shadows"),
+                low=SHADOW_BIAS_SLIDER[0], high=SHADOW_BIAS_SLIDER[1], step=0.001, fmt="{:.3f}", group="Shadows",
+                key_step=SHADOW_BIAS_KEY_STEP),
     ]
 
 
