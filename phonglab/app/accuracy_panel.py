@@ -166,7 +166,8 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
         URLs ``render``, ``reference``, ``error`` and ``scale`` (the scale
         bar), ``scale_labels`` (the errors at the bar's ticks) and
         ``figures``: a list of ``{"name", "value", "title"}`` (RMSE, max
-        error, peak error, highlight RMSE, time, the exact sphere's time).
+        error, peak error, highlight RMSE, time, the exact sphere's time) and
+        ``timing``: how the times were measured, in words (:func:`timing_words`).
         The render and reference images are encoded for the display as the
         scene's ``display`` and ``exposure`` say (sRGB by default).
     """
@@ -190,6 +191,7 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
         "error": png_data_url(view.error),
         "scale": png_data_url(error_scale_bar(256, 10)),
         "scale_labels": [_power_of_ten(lo * 10**k) for k in range(decades + 1)],
+        "timing": timing_words(view.repeats),
         "figures": [
             {"name": "RMSE", "value": _figure(view.rmse), "title": "root-mean-square error over the sphere"},
             {"name": "max error", "value": _figure(view.max_error), "title": "the largest error of any pixel"},
@@ -197,11 +199,27 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
              "title": "the error at the brightest pixel of the exact highlight"},
             {"name": "highlight RMSE", "value": _figure(view.highlight_rmse),
              "title": "root-mean-square error inside the exact highlight"},
-            {"name": "time", "value": _milliseconds(view.time), "title": "median time of the method's shading work"},
+            {"name": "time", "value": _milliseconds(view.time),
+             "title": f"the method's shading work, {_median_words(view.repeats)}"},
             {"name": "exact sphere", "value": _milliseconds(view.reference_time),
-             "title": "median time of shading the exact sphere (the reference)"},
+             "title": f"shading the exact sphere (the reference), {_median_words(view.repeats)}"},
         ],
     }
+
+
+def _median_words(repeats: int) -> str:
+    """How one time was measured, for its tooltip."""
+    return f"median of {repeats} runs after a warm-up, timed in turns with the other"
+
+
+def timing_words(repeats: int) -> str:
+    """The note under the panel's times: how they were measured and what they can be compared with.
+
+    >>> timing_words(5)
+    'Times: median of 5 runs each, after a warm-up, measured live on this machine. They vary between runs: compare the two times of one pick, not times of different picks.'
+    """
+    return (f"Times: median of {repeats} runs each, after a warm-up, measured live on this machine. "
+            f"They vary between runs: compare the two times of one pick, not times of different picks.")
 
 
 def _power_of_ten(value: float) -> str:

@@ -417,6 +417,8 @@ class _Page:
                         html.Span("{{ f.name }}", classes="phonglab-term-name")
                         html.Span("{{ f.value }}", classes="phonglab-mono",
                                   data_figure=("f.name",), __properties=[("data_figure", "data-figure")])
+                html.Div("{{ accuracy_view.timing }}", v_if="accuracy_view.timing",
+                         classes="phonglab-note phonglab-accuracy-timing")
             html.Div("What accuracy costs in time (quick run of phonglab bench accuracy)",
                      classes="phonglab-section mt-3")
             with html.Div(v_if="accuracy_plot.status === 'measuring'", classes="phonglab-accuracy-measuring"):
