@@ -214,3 +214,19 @@ def test_the_error_figures_a_lesson_states_are_the_panels(method, resolution):
     for measure, name in (("peak_error", "peak error"), ("highlight_rmse", "highlight RMSE"), ("rmse", "RMSE")):
         stated = claims._error(scene, method, float(resolution), measure)
         assert panel._figure(stated) == figures[name], (method, resolution, measure, stated, figures)
+
+
+def test_the_accuracy_lesson_offers_no_probe_and_a_click_leaves_it_where_it_is(app):
+    """Its panel takes the readout's place: a probe there moved arrows whose numbers the page never showed."""
+    ray = {"ray": [[0.2, -0.1, 3.0], [0.2, -0.1, -3.0]]}
+    probe = app.scene.probe
+    app.on_pick(ray)
+    assert app.scene.probe == probe, f"a click in the accuracy lesson moved the probe from {probe} to {app.scene.probe}"
+    template = app.ui.html
+    toggle = template[template.index("phonglab-pick-toggle") - 400:template.index("phonglab-pick-toggle") + 200]
+    assert 'v-if="!accuracy"' in toggle, f"the Probe/Light toggle is offered in the accuracy lesson: {toggle}"
+    assert "accuracy ? 'Drag to turn'" in template, "the hint still says: Click the surface to move the probe"
+    app.open_lesson(0)  # another lesson: a click moves the probe there (the test can fail)
+    before = app.scene.probe
+    app.on_pick(ray)
+    assert app.scene.probe != before, f"a click in lesson 1 left the probe at {before}"

@@ -294,8 +294,11 @@ class _Page:
                         for value, title in TERMS:
                             v3.VBtn(title.replace(" terms", ""), value=value, size="small",
                                     classes=f"phonglab-term-{value}")
+                    # not in the accuracy lesson: its panel stands where the readout would, so a probe
+                    # there had no numbers to show, and a moved light would not reach the panel's sphere
                     with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
-                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
+                                       variant="outlined", divided=True, classes="phonglab-pick-toggle",
+                                       v_if="!accuracy"):
                         # named for a screen reader and a tooltip too: a narrow bar shows their icons alone
                         v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target",
                                 aria_label="Probe", title="A click on the view moves the probe",
@@ -340,9 +343,10 @@ class _Page:
                     self._notice()
                     truth_ui.wrong_banner()
                     html.Div(
-                        "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you "
-                        "let go' : (pick_target === 'light' ? 'Click the surface to put the light above it' : "
-                        "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
+                        "{{ pixel_mode ? pixel_hint + (accuracy ? '' : ' · click to pick') + ' · turn the view: the "
+                        "picture follows when you let go' : (accuracy ? 'Drag to turn' : (pick_target === 'light' ? "
+                        "'Click the surface to put the light above it' : 'Click the surface to move the probe') + "
+                        "' · drag to turn') + ' · wheel to zoom' }}",
                         classes="phonglab-hint",
                     )
             self._accuracy_panel()
