@@ -432,7 +432,7 @@ class _Page:
             html.Img(v_if="accuracy_plot.src", src=("accuracy_plot.src",),
                      alt="error against time for the four studies", title="click to enlarge",
                      click="accuracy_zoom = true", classes="phonglab-accuracy-plot")
-            with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw"):
+            with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw", classes="phonglab-accuracy-zoom"):
                 with v3.VCard(click="accuracy_zoom = false"):
                     html.Img(src=("accuracy_plot.src",), classes="phonglab-accuracy-plot-large")
 
