@@ -1,4 +1,4 @@
-"""How the accuracy studies time their work: warm-ups first, then the median of N samples, in turns.
+"""How the accuracy studies time their work: warm-ups first, then the fastest of N samples, in turns.
 
 The mechanism is tested with a fake clock and counted calls; no test asserts
 a real time (a shared machine is sometimes busy).
@@ -33,24 +33,24 @@ def costly(clock, costs, log, name):
     return fn
 
 
-def test_interleaved_times_warms_every_function_up_before_any_sample_and_reports_the_median():
+def test_interleaved_times_warms_every_function_up_before_any_sample_and_reports_the_fastest():
     clock, log = FakeClock(), []
     # the warm-ups are slow (a start-up burst), then five samples each; min_seconds 0: one call per sample
     slow_start = [1000.0] * timing.WARMUPS
     fns = {"a": costly(clock, slow_start + [3, 1, 2, 100, 4], log, "a"),
            "b": costly(clock, slow_start + [10, 30, 20, 50, 40], log, "b")}
     times = timing.interleaved_times(fns, 5, min_seconds=0.0, clock=clock)
-    assert times == {"a": 3, "b": 30}, f"medians of the samples after the warm-ups, got {times}; calls {log}"
+    assert times == {"a": 1, "b": 10}, f"the fastest samples after the warm-ups, got {times}; calls {log}"
     warm = 2 * timing.WARMUPS
     assert sorted(log[:warm]) == sorted(["a", "b"] * timing.WARMUPS), f"warm-ups of both first, got {log}"
     assert log[warm:] == ["a", "b"] * 5, f"samples taken in turns, one of each per round, got {log}"
 
 
-def test_median_time_does_not_time_its_warm_up():
+def test_best_time_does_not_time_its_warm_up():
     clock, log = FakeClock(), []
     fn = costly(clock, [500.0] * timing.WARMUPS + [7, 5, 6], log, "f")
-    seconds, result = timing.median_time(fn, 3, min_seconds=0.0, clock=clock)
-    assert (seconds, result) == (6, "f"), f"median of the 3 samples after {timing.WARMUPS} warm-ups: {log}"
+    seconds, result = timing.best_time(fn, 3, min_seconds=0.0, clock=clock)
+    assert (seconds, result) == (5, "f"), f"the fastest of the 3 samples after {timing.WARMUPS} warm-ups: {log}"
     assert len(log) == timing.WARMUPS + 3, log
 
 
@@ -74,7 +74,7 @@ def test_the_interpolation_study_times_every_case_and_the_exact_sphere_in_one_se
         assert row["time"] == times[(row["method"], row["resolution"])], row
 
 
-def test_the_panels_pick_times_the_method_and_the_exact_sphere_in_turns_median_of_5(monkeypatch):
+def test_the_panels_pick_times_the_method_and_the_exact_sphere_in_turns_fastest_of_5(monkeypatch):
     seen = []
 
     def fake_times(fns, repeats, **options):
@@ -83,7 +83,7 @@ def test_the_panels_pick_times_the_method_and_the_exact_sphere_in_turns_median_o
 
     monkeypatch.setattr(interpolation, "interleaved_times", fake_times)
     view = interpolation.error_images("pixel", 16, size=32)
-    assert seen == [(["method", "reference"], 5)], f"one set of turns, median of 5: {seen}"
+    assert seen == [(["method", "reference"], 5)], f"one set of turns, fastest of 5: {seen}"
     assert (view.time, view.reference_time, view.repeats) == (0.002, 0.001, 5), view
 
 
@@ -91,6 +91,6 @@ def test_the_panel_says_how_its_times_were_measured():
     from phonglab.app.accuracy_panel import error_panel
 
     panel = error_panel("gouraud", 16, 200.0)
-    assert "median of 5" in panel["timing"] and "vary" in panel["timing"], panel["timing"]
+    assert "fastest of 5" in panel["timing"] and "vary" in panel["timing"], panel["timing"]
     time = next(f for f in panel["figures"] if f["name"] == "time")
-    assert "median of 5" in time["title"], time
+    assert "fastest of 5" in time["title"], time

@@ -1,7 +1,7 @@
 """phonglab.accuracy: what each gain in accuracy costs in time, measured.
 
 Four studies, each an error against a stated reference and a time measured
-in the same run (medians of repeats):
+in the same run (the fastest of several repeats, after a warm-up):
 
 1. :mod:`~phonglab.accuracy.interpolation`: flat, Gouraud and per-pixel
    shading of sphere meshes against the exact sphere;

@@ -28,7 +28,7 @@ import numpy as np
 from phonglab import core
 from phonglab.accuracy.images import display_image
 from phonglab.accuracy.raycast import View, camera_rays, hit_mesh, hit_sphere
-from phonglab.accuracy.timing import interleaved_times, median_time
+from phonglab.accuracy.timing import best_time, interleaved_times
 
 __all__ = [
     "METHODS",
@@ -122,12 +122,12 @@ def reference(setup: Setup, *, repeats: int = 3, seconds: float | None = None) -
     """Shade the exact sphere at every pixel (the reference of this study).
 
     ``seconds``, when given, is its time already measured (in turns with the
-    methods, :func:`run`); otherwise it is timed here (warm-up, median of
+    methods, :func:`run`); otherwise it is timed here (warm-up, fastest of
     ``repeats``).
     """
     work, points, normals, mask = reference_work(setup)
     if seconds is None:
-        seconds, s = median_time(work, repeats)
+        seconds, s = best_time(work, repeats)
     else:
         s = work()
     color = np.full(points.shape, np.nan)
@@ -239,7 +239,7 @@ def errors(ref: Reference, image: np.ndarray, mask: np.ndarray) -> dict:
 
 def measure(setup: Setup, ref: Reference, prep: Prepared, method: str, *, repeats: int = 3,
             seconds: float | None = None):
-    """One row of the study: the errors and median time of ``method`` on ``prep``.
+    """One row of the study: the errors and time (fastest of the repeats) of ``method`` on ``prep``.
 
     ``seconds``, when given, is a time already measured for this method
     (:func:`run` times the three methods in turn); otherwise it is timed here.
@@ -253,7 +253,7 @@ def measure(setup: Setup, ref: Reference, prep: Prepared, method: str, *, repeat
         The rendered colours (NaN where the mesh is not seen).
     """
     if seconds is None:
-        seconds, colours = median_time(lambda: shade_method(setup, prep, method), repeats)
+        seconds, colours = best_time(lambda: shade_method(setup, prep, method), repeats)
     else:
         colours = shade_method(setup, prep, method)
     image = _image(prep.mask, colours)
@@ -279,7 +279,7 @@ def run(resolutions, *, size: int = 128, repeats: int = 3, min_seconds: float = 
     start (imports, a first render elsewhere on the machine) would otherwise
     fall on the first resolution timed and make the coarsest mesh look the
     slowest. Each timed sample loops the method for at least
-    ``min_seconds``; the median of ``repeats`` samples is reported.
+    ``min_seconds``; the fastest of ``repeats`` samples is reported.
 
     Returns
     -------
@@ -294,7 +294,7 @@ def run(resolutions, *, size: int = 128, repeats: int = 3, min_seconds: float = 
             progress(f"interpolation: sphere mesh at resolution {resolution}")
         preps.append(prepare(setup, resolution))
     if progress:
-        progress(f"interpolation: timing {3 * len(preps) + 1} cases in turns, median of {repeats}")
+        progress(f"interpolation: timing {3 * len(preps) + 1} cases in turns, fastest of {repeats}")
     work = {"reference": reference_work(setup)[0]}
     for prep in preps:
         for m in METHODS:
@@ -373,11 +373,11 @@ class ErrorView:
     rmse, max_error, highlight_rmse, peak_error : float
         As in :func:`errors`, on the unclamped colours.
     time : float
-        Median seconds of the method's shading work.
+        Seconds of the method's shading work, the fastest of ``repeats``.
     reference_time : float
-        Median seconds of shading the reference, timed in turns with the method.
+        Seconds of shading the reference, timed in turns with the method.
     repeats : int
-        How many samples each median is of (after the untimed warm-ups).
+        How many samples each time is the fastest of (after the untimed warm-ups).
     """
 
     method: str
@@ -395,7 +395,7 @@ class ErrorView:
     repeats: int = 1
 
 
-#: timed samples of each pick's method and exact sphere (the panel says "median of 5"); with the
+#: timed samples of each pick's method and exact sphere (the panel says "fastest of 5"); with the
 #: warm-ups about 15 shading runs of a 256-pixel image each, well under a second in all
 PANEL_REPEATS = 5
 
@@ -416,7 +416,7 @@ def error_images(method: str, resolution: int, *, size: int = 256, shininess: fl
         (lesson 11's front matter).
     repeats : int
         Timed samples of the method and of the exact sphere, taken in turns
-        after untimed warm-ups of both; the medians are reported.
+        after untimed warm-ups of both; the fastest of each is reported.
     encoding : {"srgb", "linear"}
         The display encoding of the render and reference images (a scene's
         ``display``); the errors are measured on linear light either way.

@@ -1,22 +1,25 @@
-"""Timing helpers shared by the studies: medians of repeats, in seconds.
+"""Timing helpers shared by the studies: the fastest of several repeats, in seconds.
 
 Every timed function is first called untimed (the *warm-up*: lazy imports,
 first allocations, caches), then timed in ``repeats`` samples, and the
-median sample is reported. Calls quicker than ``min_seconds`` are looped
-within a sample so the clock's resolution does not dominate. Functions
+fastest sample is reported: on a shared machine the other samples were
+slowed by something else (another process, another worker's study), so the
+fastest is the one that varies least between runs (on 2 busy cores the
+median of five still moved by a third from run to run, the fastest by about
+a tenth). Calls quicker than ``min_seconds`` are looped within a sample so
+the clock's resolution does not dominate. Functions
 compared with each other are timed in turns (:func:`interleaved_times`):
 one sample of each per round, so a busy moment of a shared machine lands on
 all of them instead of on whichever happened to run then.
 
 The clock is a parameter (``clock``, :func:`time.perf_counter` by default)
-so tests can check the mechanism (warm-ups untimed, the median of N) with a
+so tests can check the mechanism (warm-ups untimed, the fastest of N) with a
 fake clock, without asserting anything about real time.
 """
 
 from __future__ import annotations
 
 import math
-import statistics
 import sys
 import time
 
@@ -29,9 +32,9 @@ def _loops(seconds: float, min_seconds: float) -> int:
     return max(1, math.ceil(min_seconds / seconds)) if seconds > 0 else 1
 
 
-def median_time(fn, repeats: int, *, warmup: bool = True, min_seconds: float = 0.005,
+def best_time(fn, repeats: int, *, warmup: bool = True, min_seconds: float = 0.005,
                 clock=time.perf_counter) -> tuple[float, object]:
-    """The median wall-clock time of one ``fn()`` call over ``repeats`` samples, and its last result.
+    """The fastest wall-clock time of one ``fn()`` call over ``repeats`` samples, and its last result.
 
     Untimed calls (:data:`WARMUPS`) warm caches and lazy imports (unless ``warmup`` is
     False, when the first call is the first sample if it took ``min_seconds`` or more). Calls quicker than
@@ -54,17 +57,17 @@ def median_time(fn, repeats: int, *, warmup: bool = True, min_seconds: float = 0
         for _ in range(loops):
             result = fn()
         times.append((clock() - start) / loops)
-    return statistics.median(times), result
+    return min(times), result
 
 
 def interleaved_times(fns: dict, repeats: int, *, min_seconds: float = 0.005, clock=time.perf_counter) -> dict:
-    """Median times of several functions timed in turn, one sample of each per round.
+    """The fastest times of several functions timed in turn, one sample of each per round.
 
     Every function is warmed up (:data:`WARMUPS` untimed calls, all of them
     before any sample is taken), then ``repeats`` rounds take one sample of
     each. Taking turns spreads a busy moment of a shared machine over all of
     them instead of penalising whichever ran then, so their ratios are fair.
-    Returns ``{name: median seconds per call}``.
+    Returns ``{name: fastest seconds per call}``.
     """
     loops, samples = {}, {}
     for _ in range(WARMUPS):
@@ -79,7 +82,7 @@ def interleaved_times(fns: dict, repeats: int, *, min_seconds: float = 0.005, cl
             for _ in range(loops[name]):
                 fn()
             samples[name].append((clock() - start) / loops[name])
-    return {name: statistics.median(times) for name, times in samples.items()}
+    return {name: min(times) for name, times in samples.items()}
 
 
 class Progress:

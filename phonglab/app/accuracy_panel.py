@@ -200,25 +200,25 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
             {"name": "highlight RMSE", "value": _figure(view.highlight_rmse),
              "title": "root-mean-square error inside the exact highlight"},
             {"name": "time", "value": _milliseconds(view.time),
-             "title": f"the method's shading work, {_median_words(view.repeats)}"},
+             "title": f"the method's shading work, {_fastest_words(view.repeats)}"},
             {"name": "exact sphere", "value": _milliseconds(view.reference_time),
-             "title": f"shading the exact sphere (the reference), {_median_words(view.repeats)}"},
+             "title": f"shading the exact sphere (the reference), {_fastest_words(view.repeats)}"},
         ],
     }
 
 
-def _median_words(repeats: int) -> str:
+def _fastest_words(repeats: int) -> str:
     """How one time was measured, for its tooltip."""
-    return f"median of {repeats} runs after a warm-up, timed in turns with the other"
+    return f"the fastest of {repeats} runs after a warm-up, timed in turns with the other"
 
 
 def timing_words(repeats: int) -> str:
     """The note under the panel's times: how they were measured and what they can be compared with.
 
     >>> timing_words(5)
-    'Times: median of 5 runs each, after a warm-up, measured live on this machine. They vary between runs: compare the two times of one pick, not times of different picks.'
+    'Times: the fastest of 5 runs each, after a warm-up, measured live on this machine. They vary between runs: compare the two times of one pick, not times of different picks.'
     """
-    return (f"Times: median of {repeats} runs each, after a warm-up, measured live on this machine. "
+    return (f"Times: the fastest of {repeats} runs each, after a warm-up, measured live on this machine. "
             f"They vary between runs: compare the two times of one pick, not times of different picks.")
 
 
