@@ -216,8 +216,8 @@ def _fastest_words(repeats: int) -> str:
 def timing_words(repeats: int) -> str:
     """The note under the panel's times: how they were measured and what they can be compared with.
 
-    >>> timing_words(5)
-    'Times: the fastest of 5 runs each, after a warm-up, measured live on this machine. They vary between runs: compare the two times of one pick, not times of different picks.'
+    >>> timing_words(5)[:61]
+    'Times: the fastest of 5 runs each, after a warm-up, measured '
     """
     return (f"Times: the fastest of {repeats} runs each, after a warm-up, measured live on this machine. "
             f"They vary between runs: compare the two times of one pick, not times of different picks.")
