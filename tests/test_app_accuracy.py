@@ -80,7 +80,7 @@ def decode(url: str) -> np.ndarray:
 
 @pytest.mark.parametrize("value", [7, 16.5, "16", True, None, float("nan"), [16]])
 def test_bad_resolutions_are_refused_naming_the_value_and_the_choices(value):
-    with pytest.raises(ValueError, match=r"accuracy\.resolution: must be one of 8, 16, 32, 64, 128") as info:
+    with pytest.raises(ValueError, match=r"accuracy\.resolution: must be one of 8, 16, 32, 64, 128, 256") as info:
         panel.check_resolution(value)
     assert repr(value) in str(info.value)
 
@@ -131,7 +131,7 @@ def test_the_panel_shows_on_the_accuracy_lesson_only_and_follows_its_scene(app, 
     # a resolution the picker does not offer leaves the pick alone, and the panel says why
     control(app, "geometry__resolution", 20.0)
     assert s.accuracy_resolution == 16 and s.accuracy_view["resolution"] == 16
-    assert "20 segments" in s.accuracy_unpicked and "8, 16, 32, 64, 128" in s.accuracy_unpicked, s.accuracy_unpicked
+    assert "20 segments" in s.accuracy_unpicked and "8, 16, 32, 64, 128, 256" in s.accuracy_unpicked, s.accuracy_unpicked
     control(app, "geometry__resolution", 32.0)  # one it offers: followed, and the note goes
     assert s.accuracy_resolution == 32 and s.accuracy_unpicked == "", (s.accuracy_resolution, s.accuracy_unpicked)
     # the picker itself; the same pick twice computes once
@@ -214,3 +214,30 @@ def test_the_error_figures_a_lesson_states_are_the_panels(method, resolution):
     for measure, name in (("peak_error", "peak error"), ("highlight_rmse", "highlight RMSE"), ("rmse", "RMSE")):
         stated = claims._error(scene, method, float(resolution), measure)
         assert panel._figure(stated) == figures[name], (method, resolution, measure, stated, figures)
+
+
+def test_the_accuracy_lesson_offers_no_probe_and_a_click_leaves_it_where_it_is(app):
+    """Its panel takes the readout's place: a probe there moved arrows whose numbers the page never showed."""
+    ray = {"ray": [[0.2, -0.1, 3.0], [0.2, -0.1, -3.0]]}
+    probe = app.scene.probe
+    app.on_pick(ray)
+    assert app.scene.probe == probe, f"a click in the accuracy lesson moved the probe from {probe} to {app.scene.probe}"
+    template = app.ui.html
+    toggle = template[template.index("phonglab-pick-toggle") - 400:template.index("phonglab-pick-toggle") + 200]
+    assert 'v-if="!accuracy"' in toggle, f"the Probe/Light toggle is offered in the accuracy lesson: {toggle}"
+    assert "accuracy ? 'Drag to turn'" in template, "the hint still says: Click the surface to move the probe"
+    app.open_lesson(0)  # another lesson: a click moves the probe there (the test can fail)
+    before = app.scene.probe
+    app.on_pick(ray)
+    assert app.scene.probe != before, f"a click in lesson 1 left the probe at {before}"
+
+
+def test_the_panel_offers_every_mesh_the_lessons_error_figures_are_measured_on():
+    """The text quoted Gouraud on 256 segments (0.10, 0.03) while the picker stopped at 128."""
+    import re
+
+    text = (Path(__file__).resolve().parents[1] / "lessons" / "11-accuracy.md").read_text(encoding="utf-8")
+    quoted = {int(n) for n in re.findall(r"error\('\w+', (\d+), '\w+'\)", text)}
+    assert quoted, "the lesson's claims name no error(method, resolution, measure)"
+    missing = sorted(quoted - set(panel.RESOLUTIONS))
+    assert not missing, f"the lesson measures {sorted(quoted)}, the panel offers {panel.RESOLUTIONS}: missing {missing}"

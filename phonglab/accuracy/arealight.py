@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from phonglab.accuracy.timing import median_time
+from phonglab.accuracy.timing import best_time
 from phonglab.core.area import AreaLight, area_irradiance
 
 __all__ = ["LIGHT", "floor_points", "relative_error", "fit_slope", "run"]
@@ -72,8 +72,8 @@ def run(*, samples=(1, 4, 16, 64, 256, 1024, 4096), seeds: int = 4, side: int = 
         and the exact form's ``reference_time``.
     """
     points, normals = floor_points(side)
-    exact_time, exact = median_time(lambda: area_irradiance(LIGHT, points, normals, method="exact"), repeats)
-    point_time, approx = median_time(lambda: area_irradiance(LIGHT, points, normals, method="point"), repeats)
+    exact_time, exact = best_time(lambda: area_irradiance(LIGHT, points, normals, method="exact"), repeats)
+    point_time, approx = best_time(lambda: area_irradiance(LIGHT, points, normals, method="point"), repeats)
     rows = [
         {"method": "exact", "samples": 0, "error": 0.0, "time": exact_time},
         {"method": "point", "samples": 1, "error": relative_error(approx, exact), "time": point_time},
@@ -86,7 +86,7 @@ def run(*, samples=(1, 4, 16, 64, 256, 1024, 4096), seeds: int = 4, side: int = 
                 progress(f"finite light: {method} Monte Carlo, N = {n}")
             seconds, errs = [], []
             for seed in range(seeds):
-                t, estimate = median_time(
+                t, estimate = best_time(
                     lambda: area_irradiance(LIGHT, points, normals, method=method, samples=n, seed=seed),
                     1, warmup=False)
                 seconds.append(t)

@@ -28,7 +28,7 @@ import numpy as np
 from phonglab import core
 from phonglab.accuracy.images import display_image
 from phonglab.accuracy.raycast import View, camera_rays, hit_mesh, hit_sphere
-from phonglab.accuracy.timing import interleaved_times, median_time
+from phonglab.accuracy.timing import best_time, interleaved_times
 
 __all__ = [
     "METHODS",
@@ -106,11 +106,30 @@ class Reference:
     time: float
 
 
-def reference(setup: Setup, *, repeats: int = 3) -> Reference:
-    """Shade the exact sphere at every pixel (the reference of this study)."""
+def reference_work(setup: Setup):
+    """The reference's timed work, a function of no arguments, and the pixels it shades.
+
+    Returns ``(fn, points, normals, mask)``: ``fn()`` shades the exact
+    sphere's hit points (the part :func:`reference` times); finding them is
+    not timed, as for the meshes.
+    """
     points, normals, mask = hit_sphere(camera_rays(setup.view))
     p, n = points[mask], normals[mask]
-    seconds, s = median_time(lambda: _shade(setup, p, n), repeats)
+    return (lambda: _shade(setup, p, n)), points, normals, mask
+
+
+def reference(setup: Setup, *, repeats: int = 3, seconds: float | None = None) -> Reference:
+    """Shade the exact sphere at every pixel (the reference of this study).
+
+    ``seconds``, when given, is its time already measured (in turns with the
+    methods, :func:`run`); otherwise it is timed here (warm-up, fastest of
+    ``repeats``).
+    """
+    work, points, normals, mask = reference_work(setup)
+    if seconds is None:
+        seconds, s = best_time(work, repeats)
+    else:
+        s = work()
     color = np.full(points.shape, np.nan)
     specular = np.full(points.shape, np.nan)
     color[mask], specular[mask] = s.color, s.specular
@@ -220,7 +239,7 @@ def errors(ref: Reference, image: np.ndarray, mask: np.ndarray) -> dict:
 
 def measure(setup: Setup, ref: Reference, prep: Prepared, method: str, *, repeats: int = 3,
             seconds: float | None = None):
-    """One row of the study: the errors and median time of ``method`` on ``prep``.
+    """One row of the study: the errors and time (fastest of the repeats) of ``method`` on ``prep``.
 
     ``seconds``, when given, is a time already measured for this method
     (:func:`run` times the three methods in turn); otherwise it is timed here.
@@ -234,7 +253,7 @@ def measure(setup: Setup, ref: Reference, prep: Prepared, method: str, *, repeat
         The rendered colours (NaN where the mesh is not seen).
     """
     if seconds is None:
-        seconds, colours = median_time(lambda: shade_method(setup, prep, method), repeats)
+        seconds, colours = best_time(lambda: shade_method(setup, prep, method), repeats)
     else:
         colours = shade_method(setup, prep, method)
     image = _image(prep.mask, colours)
@@ -254,8 +273,13 @@ def measure(setup: Setup, ref: Reference, prep: Prepared, method: str, *, repeat
 def run(resolutions, *, size: int = 128, repeats: int = 3, min_seconds: float = 0.005, progress=None) -> dict:
     """The interpolation study at the given mesh resolutions.
 
-    Each timed sample loops the method for at least ``min_seconds``; the
-    median of ``repeats`` samples is reported.
+    Every case (each method at each resolution, and the exact sphere) is
+    warmed up before any is timed, then timed in turns, one sample of each
+    per round (:func:`~phonglab.accuracy.timing.interleaved_times`): a busy
+    start (imports, a first render elsewhere on the machine) would otherwise
+    fall on the first resolution timed and make the coarsest mesh look the
+    slowest. Each timed sample loops the method for at least
+    ``min_seconds``; the fastest of ``repeats`` samples is reported.
 
     Returns
     -------
@@ -264,22 +288,30 @@ def run(resolutions, *, size: int = 128, repeats: int = 3, min_seconds: float = 
         (one per method and resolution, see :func:`measure`).
     """
     setup = default_setup(size)
-    ref = reference(setup, repeats=repeats)
-    rows = []
+    preps = []
     for resolution in resolutions:
         if progress:
             progress(f"interpolation: sphere mesh at resolution {resolution}")
-        prep = prepare(setup, resolution)
-        times = interleaved_times({m: (lambda m=m: shade_method(setup, prep, m)) for m in METHODS}, repeats,
-                                  min_seconds=min_seconds)
+        preps.append(prepare(setup, resolution))
+    if progress:
+        progress(f"interpolation: timing {3 * len(preps) + 1} cases in turns, fastest of {repeats}")
+    work = {"reference": reference_work(setup)[0]}
+    for prep in preps:
+        for m in METHODS:
+            work[(m, prep.resolution)] = lambda m=m, prep=prep: shade_method(setup, prep, m)
+    times = interleaved_times(work, repeats, min_seconds=min_seconds)
+    ref = reference(setup, seconds=times["reference"])
+    rows = []
+    for prep in preps:
         for method in METHODS:
-            rows.append(measure(setup, ref, prep, method, seconds=times[method])[0])
+            rows.append(measure(setup, ref, prep, method, seconds=times[(method, prep.resolution)])[0])
     return {
         "name": "interpolation",
         "title": "Interpolation: flat, Gouraud and per-pixel shading of a sphere mesh",
         "reference": (f"the exact sphere shaded per pixel (exact normals, float64), "
                       f"{size}x{size} pixels, shininess {setup.material.shininess:g}"),
         "reference_time": ref.time,
+        "repeats": int(repeats),
         "rows": rows,
     }
 
@@ -341,9 +373,11 @@ class ErrorView:
     rmse, max_error, highlight_rmse, peak_error : float
         As in :func:`errors`, on the unclamped colours.
     time : float
-        Median seconds of the method's shading work.
+        Seconds of the method's shading work, the fastest of ``repeats``.
     reference_time : float
-        Median seconds of shading the reference.
+        Seconds of shading the reference, timed in turns with the method.
+    repeats : int
+        How many samples each time is the fastest of (after the untimed warm-ups).
     """
 
     method: str
@@ -358,10 +392,16 @@ class ErrorView:
     peak_error: float
     time: float
     reference_time: float
+    repeats: int = 1
+
+
+#: timed samples of each pick's method and exact sphere (the panel says "fastest of 5"); with the
+#: warm-ups about 15 shading runs of a 256-pixel image each, well under a second in all
+PANEL_REPEATS = 5
 
 
 def error_images(method: str, resolution: int, *, size: int = 256, shininess: float = 200.0,
-                 repeats: int = 3, encoding: str = "srgb", exposure: float = 1.0) -> ErrorView:
+                 repeats: int = PANEL_REPEATS, encoding: str = "srgb", exposure: float = 1.0) -> ErrorView:
     """Render the sphere with one method and compare it with the exact sphere.
 
     Parameters
@@ -375,7 +415,8 @@ def error_images(method: str, resolution: int, *, size: int = 256, shininess: fl
         The material's α (>= 0); the rest of the scene is the study's
         (lesson 11's front matter).
     repeats : int
-        Timed repeats (the median is reported).
+        Timed samples of the method and of the exact sphere, taken in turns
+        after untimed warm-ups of both; the fastest of each is reported.
     encoding : {"srgb", "linear"}
         The display encoding of the render and reference images (a scene's
         ``display``); the errors are measured on linear light either way.
@@ -406,9 +447,13 @@ def error_images(method: str, resolution: int, *, size: int = 256, shininess: fl
         raise ValueError(f"encoding: must be srgb or linear, got {encoding!r}")
     if isinstance(exposure, bool) or not isinstance(exposure, (int, float)) or not 0 < exposure < math.inf:
         raise ValueError(f"exposure: must be a finite number > 0, got {exposure!r}")
-    ref = reference(setup, repeats=repeats)
     prep = prepare(setup, int(resolution))
-    row, image = measure(setup, ref, prep, method, repeats=repeats)
+    # the method and the exact sphere are warmed up, then timed in turns: a busy moment of the
+    # machine (another tab's study) lands on both, so the two times of one pick compare fairly
+    times = interleaved_times({"method": lambda: shade_method(setup, prep, method),
+                               "reference": reference_work(setup)[0]}, repeats)
+    ref = reference(setup, seconds=times["reference"])
+    row, image = measure(setup, ref, prep, method, seconds=times["method"])
     both = prep.mask & ref.mask
     diff = np.max(np.abs(np.nan_to_num(image) - np.nan_to_num(ref.color)), axis=-1)
     return ErrorView(
@@ -424,4 +469,5 @@ def error_images(method: str, resolution: int, *, size: int = 256, shininess: fl
         peak_error=row["peak_error"],
         time=row["time"],
         reference_time=ref.time,
+        repeats=max(1, int(repeats)),
     )

@@ -1,6 +1,6 @@
 """Study 3: Phong against Blinn-Phong, in time and in the highlight.
 
-Cost: the median time to shade a million points with each model, for a local
+Cost: the time (fastest of the repeats) to shade a million points with each model, for a local
 viewer with a point light (``l``, ``v`` and so ``h`` change at every point)
 and for an infinite viewer with a directional light (``l`` and ``v`` are
 constant, so Blinn-Phong's ``h`` is one vector for the whole image, while

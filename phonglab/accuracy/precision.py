@@ -13,7 +13,7 @@ the scene in float32, as a float32 pipeline does. Four sets of points:
   (the whole colour).
 
 The error is the relative error ``|x − x_ref| / |x_ref|`` of the term the
-case stresses; the time is the median time to shade a million such points,
+case stresses; the time is the time (fastest of the repeats) to shade a million such points,
 and for mpmath the time per point times a million.
 """
 
@@ -160,7 +160,7 @@ def run(*, points: int = 200, timed_points: int = 1_000_000, repeats: int = 3, p
     timed_points : int
         Points shaded per timed call of the core.
     repeats : int
-        Timed repeats (the median is reported).
+        Timed repeats (the fastest is reported).
 
     Returns
     -------

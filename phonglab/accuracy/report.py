@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+from phonglab.accuracy.timing import WARMUPS
+
 
 def _num(x, digits: int = 3) -> str:
     if x is None or (isinstance(x, float) and math.isnan(x)):
@@ -28,6 +30,9 @@ def _table(headers, rows) -> list[str]:
 
 def _interpolation(study) -> list[str]:
     out = [f"reference time: {_ms(study['reference_time'])}"]
+    if study.get("repeats"):  # how the times were taken: they are live and vary between runs
+        out.append(f"times: the fastest of {study['repeats']} runs each, after {WARMUPS} untimed warm-ups, "
+                   f"every case timed in turns; compare times of one run")
     rows = [
         (r["resolution"], r["method"], r["shades"], _num(r["rmse"]), _num(r["max_error"]),
          _num(r["highlight_rmse"]), _num(r["peak_error"]), _ms(r["time"]))

@@ -47,8 +47,9 @@ log = logging.getLogger(__name__)
 LESSON_SLUG = "accuracy"
 #: the picker's methods: value -> label
 METHODS = (("flat", "Flat"), ("gouraud", "Gouraud"), ("pixel", "Per pixel"))
-#: the picker's mesh resolutions (segments around the sphere)
-RESOLUTIONS = (8, 16, 32, 64, 128)
+#: the picker's mesh resolutions (segments around the sphere): up to 256, the finest the lesson's text
+#: quotes (Gouraud there first comes closer to the peak than per pixel on 16)
+RESOLUTIONS = (8, 16, 32, 64, 128, 256)
 #: the pick shown first when the lesson's own scene is not one of the choices
 DEFAULT_PICK = ("gouraud", 16)
 #: the longest wait for a result before the page says it failed (seconds)
@@ -166,7 +167,8 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
         URLs ``render``, ``reference``, ``error`` and ``scale`` (the scale
         bar), ``scale_labels`` (the errors at the bar's ticks) and
         ``figures``: a list of ``{"name", "value", "title"}`` (RMSE, max
-        error, peak error, highlight RMSE, time, the exact sphere's time).
+        error, peak error, highlight RMSE, time, the exact sphere's time) and
+        ``timing``: how the times were measured, in words (:func:`timing_words`).
         The render and reference images are encoded for the display as the
         scene's ``display`` and ``exposure`` say (sRGB by default).
     """
@@ -190,6 +192,7 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
         "error": png_data_url(view.error),
         "scale": png_data_url(error_scale_bar(256, 10)),
         "scale_labels": [_power_of_ten(lo * 10**k) for k in range(decades + 1)],
+        "timing": timing_words(view.repeats),
         "figures": [
             {"name": "RMSE", "value": _figure(view.rmse), "title": "root-mean-square error over the sphere"},
             {"name": "max error", "value": _figure(view.max_error), "title": "the largest error of any pixel"},
@@ -197,11 +200,27 @@ def error_panel(method: str, resolution: int, shininess: float, display: str = "
              "title": "the error at the brightest pixel of the exact highlight"},
             {"name": "highlight RMSE", "value": _figure(view.highlight_rmse),
              "title": "root-mean-square error inside the exact highlight"},
-            {"name": "time", "value": _milliseconds(view.time), "title": "median time of the method's shading work"},
+            {"name": "time", "value": _milliseconds(view.time),
+             "title": f"the method's shading work, {_fastest_words(view.repeats)}"},
             {"name": "exact sphere", "value": _milliseconds(view.reference_time),
-             "title": "median time of shading the exact sphere (the reference)"},
+             "title": f"shading the exact sphere (the reference), {_fastest_words(view.repeats)}"},
         ],
     }
+
+
+def _fastest_words(repeats: int) -> str:
+    """How one time was measured, for its tooltip."""
+    return f"the fastest of {repeats} runs after a warm-up, timed in turns with the other"
+
+
+def timing_words(repeats: int) -> str:
+    """The note under the panel's times: how they were measured and what they can be compared with.
+
+    >>> timing_words(5)[:61]
+    'Times: the fastest of 5 runs each, after a warm-up, measured '
+    """
+    return (f"Times: the fastest of {repeats} runs each, after a warm-up, measured live on this machine. "
+            f"They vary between runs: compare the two times of one pick, not times of different picks.")
 
 
 def _power_of_ten(value: float) -> str:

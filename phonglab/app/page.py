@@ -294,8 +294,11 @@ class _Page:
                         for value, title in TERMS:
                             v3.VBtn(title.replace(" terms", ""), value=value, size="small",
                                     classes=f"phonglab-term-{value}")
+                    # not in the accuracy lesson: its panel stands where the readout would, so a probe
+                    # there had no numbers to show, and a moved light would not reach the panel's sphere
                     with v3.VBtnToggle(v_model=("pick_target",), mandatory=True, density="compact",
-                                       variant="outlined", divided=True, classes="phonglab-pick-toggle"):
+                                       variant="outlined", divided=True, classes="phonglab-pick-toggle",
+                                       v_if="!accuracy"):
                         # named for a screen reader and a tooltip too: a narrow bar shows their icons alone
                         v3.VBtn("Probe", value="probe", size="small", prepend_icon="mdi-target",
                                 aria_label="Probe", title="A click on the view moves the probe",
@@ -340,9 +343,10 @@ class _Page:
                     self._notice()
                     truth_ui.wrong_banner()
                     html.Div(
-                        "{{ pixel_mode ? pixel_hint + ' · click to pick · turn the view: the picture follows when you "
-                        "let go' : (pick_target === 'light' ? 'Click the surface to put the light above it' : "
-                        "'Click the surface to move the probe') + ' · drag to turn · wheel to zoom' }}",
+                        "{{ pixel_mode ? pixel_hint + (accuracy ? '' : ' · click to pick') + ' · turn the view: the "
+                        "picture follows when you let go' : (accuracy ? 'Drag to turn' : (pick_target === 'light' ? "
+                        "'Click the surface to put the light above it' : 'Click the surface to move the probe') + "
+                        "' · drag to turn') + ' · wheel to zoom' }}",
                         classes="phonglab-hint",
                     )
             self._accuracy_panel()
@@ -417,6 +421,8 @@ class _Page:
                         html.Span("{{ f.name }}", classes="phonglab-term-name")
                         html.Span("{{ f.value }}", classes="phonglab-mono",
                                   data_figure=("f.name",), __properties=[("data_figure", "data-figure")])
+                html.Div("{{ accuracy_view.timing }}", v_if="accuracy_view.timing",
+                         classes="phonglab-note phonglab-accuracy-timing")
             html.Div("What accuracy costs in time (quick run of phonglab bench accuracy)",
                      classes="phonglab-section mt-3")
             with html.Div(v_if="accuracy_plot.status === 'measuring'", classes="phonglab-accuracy-measuring"):
@@ -426,7 +432,7 @@ class _Page:
             html.Img(v_if="accuracy_plot.src", src=("accuracy_plot.src",),
                      alt="error against time for the four studies", title="click to enlarge",
                      click="accuracy_zoom = true", classes="phonglab-accuracy-plot")
-            with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw"):
+            with v3.VDialog(v_model=("accuracy_zoom",), max_width="96vw", classes="phonglab-accuracy-zoom"):
                 with v3.VCard(click="accuracy_zoom = false"):
                     html.Img(src=("accuracy_plot.src",), classes="phonglab-accuracy-plot-large")
 

@@ -54,7 +54,13 @@ class ViewInput:
 
     @guarded
     def on_pick(self, event=None, *_, **__) -> None:
-        """A click on the view: move the probe to the first surface point under it."""
+        """A click on the view: move the probe to the first surface point under it.
+
+        Not in the accuracy lesson: its panel takes the readout's place, so
+        the page offers no probe (nor a light to move) and a click changes nothing.
+        """
+        if self.accuracy.active:
+            return
         try:
             ray = (event or {}).get("ray") if isinstance(event, dict) else None
             if not (isinstance(ray, list) and len(ray) == 2):

@@ -286,7 +286,7 @@ IMAGE_TERMS = ("ambient", "diffuse", "specular", "emission", "color")
 CHANNELS = ("r", "g", "b", "max")
 #: the pictures the page shows: the sum, or one term (its term buttons)
 SHOWN_TERMS = ("color", "ambient", "diffuse", "specular")
-ERROR_MEASURES = ("rmse", "max_error", "highlight_rmse", "peak_error")
+ERROR_MEASURES = ("rmse", "max_error", "highlight_rmse", "peak_error", "shades")
 #: function name -> (argument kinds, meaning). A kind is "number" (any number
 #: expression) or a tuple of allowed words; a trailing "?" kind is optional.
 CLAIM_FUNCTIONS = {

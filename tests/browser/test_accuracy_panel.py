@@ -9,6 +9,7 @@ from __future__ import annotations
 
 
 import pytest
+from conftest import open_tab
 from waiting import wait_for
 
 PLOT = ".phonglab-accuracy-plot"
@@ -111,3 +112,30 @@ def test_bad_picker_values_are_refused(app_page, key, value_js, field):
     notice = wait_for(lambda: app_page.page.locator(".phonglab-notice").all_inner_texts(), "a refusal notice")
     assert "Refused" in notice[0] and field in notice[0], f"{key} = {value_js}: notice {notice}"
     wait_for(lambda: app_page.state(key) == before, f"{key} to return to {before!r}")
+
+
+def test_the_enlarged_plot_fits_a_1366_by_768_window_whole(browser, server):
+    """A click on the plot enlarges it; its bottom row and x-axes were cut off at 768 px high."""
+
+    with open_tab(browser, server, width=1366, height=768) as tab:
+        tab.open_lesson("Accuracy costs time")
+        wait_for(lambda: tab.state("accuracy_plot")["status"] == "ready", "the accuracy plot", timeout=120)
+        tab.page.locator(PLOT).click()
+        large = tab.page.locator(".phonglab-accuracy-plot-large")
+        large.wait_for(state="visible")
+        tab.page.wait_for_timeout(400)  # the dialog's opening transition
+        box = tab.page.evaluate("""() => {
+            const img = document.querySelector('.phonglab-accuracy-plot-large');
+            const r = img.getBoundingClientRect();
+            const bottom = document.elementFromPoint(r.left + r.width / 2, r.bottom - 3);
+            return {left: r.left, top: r.top, right: r.right, bottom: r.bottom, width: r.width, height: r.height,
+                    natural: img.naturalWidth / img.naturalHeight, bottomIsImage: bottom === img,
+                    innerWidth: window.innerWidth, innerHeight: window.innerHeight};
+        }""")
+        assert box["top"] >= 0 and box["left"] >= 0, box
+        assert box["bottom"] <= box["innerHeight"] and box["right"] <= box["innerWidth"], f"cut off: {box}"
+        assert abs(box["width"] / box["height"] - box["natural"]) < 0.02, f"the plot is stretched: {box}"
+        assert box["bottomIsImage"], f"the plot's bottom edge is hidden: {box}"
+        assert box["width"] > 0.6 * box["innerWidth"], f"the enlarged plot is hardly larger than the inline one: {box}"
+        large.click()
+        wait_for(lambda: not tab.state("accuracy_zoom"), "the enlarged plot to close on a click")
