@@ -110,7 +110,12 @@ def _sum_tex(values) -> str:
 
 
 def _worked(formula, lookup, result) -> str:
-    """``symbols = numbers = result`` for one recorded formula (the gates resolved by the core)."""
+    """``symbols = numbers = result`` for one recorded formula (the gates resolved by the core).
+
+    A shadow gate is written as the factor S with its recorded 1 or 0
+    (:func:`~phonglab.app.equation.shadow_factor`), as lesson 14 writes it.
+    """
+    formula = equation.shadow_factor(formula)
     written = equation.symbols(formula)
     substituted = equation.numbers(resolve(formula, lookup), lookup)
     result = equation.value(result)
@@ -130,10 +135,11 @@ def _rows(record, color, shown, several: bool) -> tuple[list[tuple[str, str]], l
     # the model, in the formulas the (possibly mistaken) code used
     lights_tex = []
     if shown is not None:
-        own = " + ".join(equation.symbols(shown.terms[t]) for t in shown.terms)
+        own = " + ".join(equation.symbols(equation.shadow_factor(shown.terms[t])) for t in shown.terms)
         directed = sum(lr.index is not None for lr in record.lights)
         lights_tex.append(rf"\sum_l \left[{own}\right]" if directed > 1 else own)
-    lights_tex += [equation.symbols(lr.terms[t]) for lr in others if lr.index is None for t in lr.terms]
+    lights_tex += [equation.symbols(equation.shadow_factor(lr.terms[t]))
+                   for lr in others if lr.index is None for t in lr.terms]
     rows = [("model", "I = " + " + ".join(base_tex + lights_tex))]
     rows.append(("ambient", _worked(record.terms["ambient"], _lookup(record), record["ambient"])))
     if glow:
@@ -330,8 +336,8 @@ def _shadow_lines(scene, record, blocked_by) -> list[dict]:
         else:
             by = objects[blocked_by[light.index]].label
             lines.append({"light": name, "state": "in shadow", "blocker": by,
-                          "text": f"{name.capitalize()}: in shadow here (blocked by the {by}): it adds neither "
-                                  "diffuse nor specular light."})
+                          "text": f"{name.capitalize()}: in shadow here (blocked by the {by}): S = 0, so it adds "
+                                  "neither diffuse nor specular light."})
     return lines
 
 
