@@ -99,6 +99,19 @@ def test_swatch_follows_exposure_and_clips(sheet):
     assert swatch_hex(sheet.replace("exposure", 0.5), [1.0, 2.0, 0.0]) == "#bcff00"
 
 
+@pytest.mark.parametrize("display", ["srgb", "linear"])
+def test_the_display_note_names_an_exposure_other_than_1(sheet, display):
+    # lesson 13's Gold sets 0.05: the numbers stay unscaled while the swatches are drawn ×0.05
+    scene = sheet.replace("display", display)
+    plain, _ = readout(scene, UNLIT, UP)
+    assert "exposure" not in plain["display_note"], plain["display_note"]
+    for exposure, shown in ((0.05, "×0.05"), (2.5, "×2.5")):
+        out, _ = readout(scene.replace("exposure", exposure), UNLIT, UP)
+        note = out["display_note"]
+        assert f"exposure {shown}" in note and "linear light" in note, (display, exposure, note)
+        assert note.startswith(plain["display_note"][:-1]), (display, exposure, note, plain["display_note"])
+
+
 @pytest.fixture
 def sheet_app(tmp_path):
     from trame.app import get_server

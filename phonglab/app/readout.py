@@ -49,6 +49,19 @@ DISPLAY_NOTES = {
 }
 
 
+def display_note(scene) -> str:
+    """:data:`DISPLAY_NOTES` for the scene's display, and its exposure when that is not 1.
+
+    The swatches (and the picture) are drawn with the exposure applied, the
+    numbers are not: at lesson 13's exposure 0.05 a specular of 1.402 shows
+    as a dark swatch, and the note says why.
+    """
+    note = DISPLAY_NOTES[scene.display]
+    if scene.exposure != 1:
+        note = note.removesuffix(".") + f" after exposure ×{scene.exposure:g} (the numbers are not multiplied by it)."
+    return note
+
+
 #: said once when the picture does not shade each pixel: the numbers are exact at the probe, the picture is not
 INTERPOLATION_NOTES = {
     "flat": "Numbers: the model evaluated exactly at the probe; the picture shows one colour per face (flat).",
@@ -245,7 +258,7 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
         "light": light_index,
         "light_name": None,
         "parts": [],
-        "display_note": DISPLAY_NOTES[scene.display],
+        "display_note": display_note(scene),
         "mistake": None,
     }
     if mistake is not None:
