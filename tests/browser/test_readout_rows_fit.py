@@ -29,6 +29,9 @@ MEASURE = """() => [...document.querySelectorAll('.phonglab-readout .eq-row')].m
     label: (row.querySelector('.eq-label') || {}).textContent,
     text: math.textContent.replace(/\\s+/g, ''),
     lines: math.querySelectorAll('mtr').length,
+    // the row's own lines (not those of a fraction's denominator), as text
+    texts: [...math.querySelectorAll(':scope > mtable.math-lines > mtr, :scope > mrow > mtable.math-lines > mtr')]
+      .map((tr) => tr.textContent.replace(/\\s+/g, '')),
     box: [Math.round(b.left), Math.round(b.right)], content: [Math.round(content.left), Math.round(content.right)],
     panelRight: Math.round(panel.right), scrolls: box.scrollWidth > box.clientWidth + 1,
     scale: box.style ? box.style.getPropertyValue('--math-scale') : '',
@@ -43,6 +46,12 @@ def overflowing(tab) -> list[dict]:
     assert rows, "no worked rows in the readout"
     return [r for r in rows if r["scrolls"] or r["content"][1] > r["box"][1] + 1 or r["content"][0] < r["box"][0] - 1
             or r["content"][1] > r["panelRight"]]
+
+
+def sides_mixed(rows: list[dict]) -> list[dict]:
+    """Rows broken within a side of an = whose lines also join two sides: "F0+(1−F0)(1−v·h)5=(1.000,0.710,0.290)"
+    on one line with the rest of that substitution below reads as if the formula equalled F0."""
+    return [r for r in rows if any(t[:1] != "=" for t in r["texts"][1:]) and any("=" in t[1:] for t in r["texts"])]
 
 
 def apply_experiment(tab, label: str) -> None:
@@ -66,4 +75,6 @@ def test_no_worked_row_is_cut_off_at_laptop_sizes(browser, serve_app, width, hei
             problems += [f"{slug}{' / ' + experiment if experiment else ''}: row {r['label']!r} "
                          f"({r['lines']} lines, scale {r['scale'] or 1}) content x {r['content']} in box x {r['box']}"
                          f"{', scrolls' if r['scrolls'] else ''}: {r['text'][:90]}" for r in overflowing(tab)]
+            problems += [f"{slug}{' / ' + experiment if experiment else ''}: row {r['label']!r} joins two sides of "
+                         f"an = on a line and breaks a side: {r['texts']}" for r in sides_mixed(tab.page.evaluate(MEASURE))]
     assert not problems, f"at {width}x{height}, worked rows wider than the readout:\n" + "\n".join(problems)

@@ -131,15 +131,18 @@
     };
     const bounds = (cuts) => [[0].concat(cuts), cuts.concat([kids.length])];
     const fitting = (cuts) => { const [starts, ends] = bounds(cuts); return starts.every((s, i) => width(s, ends[i]) <= room); };
-    // the relations (=, ≈, ...) first: a row broken at all starts each side of them on its own line, so
-    // that "= 0.040 + (1 − 0.040)·…" reads as the substitution, not as the formula's value; a side
-    // still too wide is then broken within at the next operators (+ −, then · ∘, ...)
-    const fixed = greedy(0, kids.length, points[0]);
+    // a chain of relations (a worked row: formula = numbers = value) is cut at its relations first, so
+    // that a side broken within never shares a line with another side: "= 0.040 + (1 − 0.040)·…" then
+    // reads as the substitution, not as the formula's value; a side still too wide is then broken
+    // within at the next operators (+ −, then · ∘, ...). A single relation (the lesson's "I = …")
+    // may keep its short left side on the first line.
+    const chain = points[0].length > 1;
+    const fixed = chain ? greedy(0, kids.length, points[0]) : [];
     sides = fixed.length > 0;
     let cuts = fixed;
     if (!fitting(cuts)) {
       let allowed = [];
-      for (const level of points.slice(1)) {
+      for (const level of chain ? points.slice(1) : points) {
         if (!level.length) continue;
         allowed = allowed.concat(level).sort((a, b) => a - b);
         const [starts, ends] = bounds(fixed);
