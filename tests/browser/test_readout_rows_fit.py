@@ -6,7 +6,8 @@ denominator, with its numbers put in, is about 640 px wide) cut off in a
 box into lines at its operators (each side of an = on its own line), and a
 fraction wider than a line has its denominator broken into lines under the
 bar. Measured here on the page: each row's formula lies inside its box, and
-the box does not scroll.
+the box does not scroll. And lesson 14's rows as the page shows them: with the
+probe in shadow, each carries the shadow factor S with its 0.
 """
 
 from __future__ import annotations
@@ -78,3 +79,19 @@ def test_no_worked_row_is_cut_off_at_laptop_sizes(browser, serve_app, width, hei
             problems += [f"{slug}{' / ' + experiment if experiment else ''}: row {r['label']!r} joins two sides of "
                          f"an = on a line and breaks a side: {r['texts']}" for r in sides_mixed(tab.page.evaluate(MEASURE))]
     assert not problems, f"at {width}x{height}, worked rows wider than the readout:\n" + "\n".join(problems)
+
+
+#: the readout's rows as the page shows them (label -> the row's text, spaces dropped)
+ROW_TEXTS = """() => Object.fromEntries([...document.querySelectorAll('.phonglab-readout .eq-row')].map((row) =>
+  [(row.querySelector('.eq-label') || {}).textContent, row.querySelector('math').textContent.replace(/\\s+/g, '')]))"""
+
+
+def test_lesson_14s_rows_show_the_shadow_factor_in_the_page(browser, serve_app):
+    with lesson_tab(browser, serve_app, 1366, 768) as tab:
+        visit(tab, "lesson=14-shadows")
+        rows = tab.page.evaluate(ROW_TEXTS)
+        # the probe under the ball: the lamp is blocked, n·l = +0.830, S = 0 substituted first
+        assert rows.get("model", "").startswith("I=kaIa+Sfkd"), rows
+        assert rows.get("diffuse", "").startswith("SfkdId") and "=0·1.000·0.70·1.00·max(0,0.830)=0.000" in rows["diffuse"], rows
+        notes = tab.page.locator(".phonglab-readout").inner_text()
+        assert "in shadow here (blocked by the ball): S = 0" in notes, notes
