@@ -412,6 +412,10 @@ def test_with_shadows_the_rows_carry_the_shadow_factor_with_its_recorded_value(s
                                                       "center": [0, 0, 9.0], "scale": 1})
     lit = _row_texts(probe_readout(lit_scene, probe, UP, 1))
     assert lit["diffuse"].startswith("Sfkd") and "=1·1.000·0.70·1.00·max(0,0.830)=0.581" in lit["diffuse"], lit
+    shaded_notes = probe_readout(scene, probe, UP, 1)["notes"]
+    lit_notes = probe_readout(lit_scene, probe, UP, 1)["notes"]
+    assert "in shadow here (blocked by the ball): S = 0" in shaded_notes[0], shaded_notes
+    assert "lit here, S = 1" in lit_notes[0], lit_notes
     # without shadows the rows stay as they were: no S
     plain = _row_texts(probe_readout(scene.replace("shadows", False), probe, UP, 1))
     assert plain["model"] == "I=kaIa+fkdIdmax(0,n·l)+fksIsmax(0,r·v)α", plain

@@ -345,7 +345,7 @@ def _shadow_lines(scene, record, blocked_by) -> list[dict]:
             start = (f", which starts {scene.shadow_bias:g} from the point towards the light"
                      if scene.shadow_bias >= 0.01 else "")
             lines.append({"light": name, "state": "lit", "blocker": None,
-                          "text": f"{name.capitalize()}: lit here (no object blocks its shadow ray{start})."})
+                          "text": f"{name.capitalize()}: lit here, S = 1 (no object blocks its shadow ray{start})."})
         else:
             by = objects[blocked_by[light.index]].label
             lines.append({"light": name, "state": "in shadow", "blocker": by,
