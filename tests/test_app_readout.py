@@ -99,6 +99,19 @@ def test_swatch_follows_exposure_and_clips(sheet):
     assert swatch_hex(sheet.replace("exposure", 0.5), [1.0, 2.0, 0.0]) == "#bcff00"
 
 
+@pytest.mark.parametrize("display", ["srgb", "linear"])
+def test_the_display_note_names_an_exposure_other_than_1(sheet, display):
+    # lesson 13's Gold sets 0.05: the numbers stay unscaled while the swatches are drawn ×0.05
+    scene = sheet.replace("display", display)
+    plain, _ = readout(scene, UNLIT, UP)
+    assert "exposure" not in plain["display_note"], plain["display_note"]
+    for exposure, shown in ((0.05, "×0.05"), (2.5, "×2.5")):
+        out, _ = readout(scene.replace("exposure", exposure), UNLIT, UP)
+        note = out["display_note"]
+        assert f"exposure {shown}" in note and "linear light" in note, (display, exposure, note)
+        assert note.startswith(plain["display_note"][:-1]), (display, exposure, note, plain["display_note"])
+
+
 @pytest.fixture
 def sheet_app(tmp_path):
     from trame.app import get_server
@@ -369,3 +382,41 @@ def test_the_factor_f_is_said_as_its_product(monkeypatch):
     assert 0 < f < 1, said
     # several lights: each light's row says its name, a colon and a space before its sum
     assert re.search(r"<mtext>light&#x000A0;\d:</mtext><mspace", out["equation"]), out["equation"][-600:]
+
+
+def _row_texts(out) -> dict:
+    """label -> the row's text as the page reads it (MathML text, no markup)."""
+    import re
+    import xml.etree.ElementTree as ET
+
+    return {label: "".join(ET.fromstring(m).itertext())
+            for label, m in re.findall(r'<span class="eq-label">([^<]+)</span>(<math.*?</math>)', out["equation"])}
+
+
+@pytest.fixture(scope="module")
+def shadow_lesson():
+    return load_lesson(LESSONS / "14-shadows.md").scene
+
+
+def test_with_shadows_the_rows_carry_the_shadow_factor_with_its_recorded_value(shadow_lesson):
+    # lesson 14's probe: on the floor under the ball, facing the lamp (n·l = +0.830) but blocked
+    scene, probe = shadow_lesson, np.array(shadow_lesson.probe, dtype=float)
+    shaded = _row_texts(probe_readout(scene, probe, UP, 1))
+    assert shaded["model"].startswith("I=kaIa+Sfkd") and "+Sfks" in shaded["model"], shaded
+    # S = 0 substituted before the other factors, so "= 0.000" follows from the digits shown
+    for term in ("diffuse", "specular"):
+        assert shaded[term].startswith("Sfk") and "=0·1.000·" in shaded[term], (term, shaded)
+    assert "max(0,0.830)" in shaded["diffuse"], shaded
+    # the same point with the ball moved away: lit, S = 1
+    lit_scene = scene.replace("objects[0].geometry", {"kind": "sphere", "resolution": 48,
+                                                      "center": [0, 0, 9.0], "scale": 1})
+    lit = _row_texts(probe_readout(lit_scene, probe, UP, 1))
+    assert lit["diffuse"].startswith("Sfkd") and "=1·1.000·0.70·1.00·max(0,0.830)=0.581" in lit["diffuse"], lit
+    shaded_notes = probe_readout(scene, probe, UP, 1)["notes"]
+    lit_notes = probe_readout(lit_scene, probe, UP, 1)["notes"]
+    assert "in shadow here (blocked by the ball): S = 0" in shaded_notes[0], shaded_notes
+    assert "lit here, S = 1" in lit_notes[0], lit_notes
+    # without shadows the rows stay as they were: no S
+    plain = _row_texts(probe_readout(scene.replace("shadows", False), probe, UP, 1))
+    assert plain["model"] == "I=kaIa+fkdIdmax(0,n·l)+fksIsmax(0,r·v)α", plain
+    assert plain["diffuse"] == "fkdIdmax(0,n·l)=1.000·0.70·1.00·max(0,0.830)=0.581", plain

@@ -126,3 +126,15 @@ def test_no_coefficient_reaches_the_page_as_typed(lesson):
         shown = re.sub(r"<math.*?</math>|<code>.*?</code>", "", shown_as_html(where, text), flags=re.DOTALL)
         raw += [f"{where}: {m.group(0)!r} in {text[:80]!r}" for m in RAW_SYMBOL.finditer(shown)]
     assert not raw, "\n".join(raw)
+
+
+#: the readout is always shown beside the view: a lesson that tells the student to turn it on (or open it)
+#: sends them looking for a switch that is not there
+READOUT_SWITCH = re.compile(r"\b(turn|switch) on the readout\b|\b(open|show) the readout\b|\breadout (on|off)\b",
+                            re.IGNORECASE)
+
+
+@pytest.mark.parametrize("lesson", LESSONS, ids=IDS)
+def test_no_lesson_tells_the_student_to_turn_the_readout_on(lesson):
+    found = [f"{where}: {m.group(0)!r}" for where, text in texts(lesson) for m in READOUT_SWITCH.finditer(text)]
+    assert not found, f"{Path(lesson.path).name}: the readout has no switch, yet: {found}"

@@ -36,6 +36,8 @@ SYMBOLS = {
     "ambient": r"k_a I_a", "emission": "k_e", "attenuation": r"f_{\text{att}}", "spot": r"f_{\text{spot}}",
     # Cook–Torrance
     "v·h": r"v\cdot h", "π": r"\pi", "α_GGX": r"\alpha", "F₀": "F_0", "k_D": "(1 - F)(1 - m)",
+    # shadows: the light's visibility, lesson 14's S_l (1 lit, 0 in shadow)
+    "lit": "S",
 }
 #: names written with 2 decimals (the coefficients and intensities of the lesson's tables)
 TWO_DECIMALS = {"k_a", "k_d", "k_s", "k_e", "I_a", "I_d", "I_s"}
@@ -84,6 +86,8 @@ def value(x, digits: int = 3) -> str:
 
 
 def _leaf_number(name: str, x) -> str:
+    if name == "lit":  # the record's yes or no: exactly 1 or 0
+        return "1" if bool(np.all(np.asarray(x))) else "0"
     if name == "α":
         return exponent(x)
     return value(x, 2 if name in TWO_DECIMALS else 3)
@@ -107,6 +111,26 @@ def _root(inside: str, operand) -> str:
     """``√inside``; a sum inside brackets too, so that where a font draws no bar over it (no maths
     font), where the root ends is still plain: √((n·v)²(1 − α²) + α²), not √(n·v)²(1 − α²) + α²."""
     return rf"\sqrt{{\left({inside}\right)}}" if _sum(operand) else rf"\sqrt{{{inside}}}"
+
+
+def shadow_factor(formula):
+    """``formula`` with each shadow gate, ``("if", ("lit",), term)``, written as the factor ``S`` times the term.
+
+    The kernel keeps a blocked light's term out of the sum (the gate); the
+    lesson writes the same as a product, ``S_l f_l [...]`` with ``S`` 1 or 0.
+    Written so, a worked row shows ``S`` and its recorded value (``0 · … =
+    0.000``) instead of jumping from the formula to 0. Other gates are kept.
+    """
+    if not isinstance(formula, tuple):
+        return formula
+    operator, *operands = formula
+    if operator == "if":
+        conditions, inner = operands
+        inner = shadow_factor(inner)
+        if tuple(conditions) == ("lit",):
+            return ("mul", "lit", *inner[1:]) if isinstance(inner, tuple) and inner[0] == "mul" else ("mul", "lit", inner)
+        return ("if", conditions, inner)
+    return (operator, *(shadow_factor(x) for x in operands))
 
 
 def symbols(formula) -> str:
@@ -136,8 +160,12 @@ def _symbols(formula) -> str:
         return symbols(operands[1])
     if operator == "mul":
         names = [rf"\left({symbols(x)}\right)" if _sum(x) else symbols(x) for x in operands]
-        if operands[0] == "f" and len(names) > 1:  # f\, k_d I_d ...: a thin space after the light factor
-            names[0] = r"f\,"
+        # S\, f\, k_d I_d ...: a thin space after the light's factors (its visibility, then f)
+        lead = 1 if operands[0] == "lit" and len(names) > 1 else 0
+        if lead:
+            names[0] = r"S\,"
+        if operands[lead] == "f" and len(names) > lead + 1:
+            names[lead] = r"f\,"
         return " ".join(names)
     if operator == "add":
         return " + ".join(symbols(x) for x in operands)

@@ -49,6 +49,19 @@ DISPLAY_NOTES = {
 }
 
 
+def display_note(scene) -> str:
+    """:data:`DISPLAY_NOTES` for the scene's display, and its exposure when that is not 1.
+
+    The swatches (and the picture) are drawn with the exposure applied, the
+    numbers are not: at lesson 13's exposure 0.05 a specular of 1.402 shows
+    as a dark swatch, and the note says why.
+    """
+    note = DISPLAY_NOTES[scene.display]
+    if scene.exposure != 1:
+        note = note.removesuffix(".") + f" after exposure ×{scene.exposure:g} (the numbers are not multiplied by it)."
+    return note
+
+
 #: said once when the picture does not shade each pixel: the numbers are exact at the probe, the picture is not
 INTERPOLATION_NOTES = {
     "flat": "Numbers: the model evaluated exactly at the probe; the picture shows one colour per face (flat).",
@@ -110,7 +123,12 @@ def _sum_tex(values) -> str:
 
 
 def _worked(formula, lookup, result) -> str:
-    """``symbols = numbers = result`` for one recorded formula (the gates resolved by the core)."""
+    """``symbols = numbers = result`` for one recorded formula (the gates resolved by the core).
+
+    A shadow gate is written as the factor S with its recorded 1 or 0
+    (:func:`~phonglab.app.equation.shadow_factor`), as lesson 14 writes it.
+    """
+    formula = equation.shadow_factor(formula)
     written = equation.symbols(formula)
     substituted = equation.numbers(resolve(formula, lookup), lookup)
     result = equation.value(result)
@@ -130,10 +148,11 @@ def _rows(record, color, shown, several: bool) -> tuple[list[tuple[str, str]], l
     # the model, in the formulas the (possibly mistaken) code used
     lights_tex = []
     if shown is not None:
-        own = " + ".join(equation.symbols(shown.terms[t]) for t in shown.terms)
+        own = " + ".join(equation.symbols(equation.shadow_factor(shown.terms[t])) for t in shown.terms)
         directed = sum(lr.index is not None for lr in record.lights)
         lights_tex.append(rf"\sum_l \left[{own}\right]" if directed > 1 else own)
-    lights_tex += [equation.symbols(lr.terms[t]) for lr in others if lr.index is None for t in lr.terms]
+    lights_tex += [equation.symbols(equation.shadow_factor(lr.terms[t]))
+                   for lr in others if lr.index is None for t in lr.terms]
     rows = [("model", "I = " + " + ".join(base_tex + lights_tex))]
     rows.append(("ambient", _worked(record.terms["ambient"], _lookup(record), record["ambient"])))
     if glow:
@@ -239,7 +258,7 @@ def probe_readout(scene, point, normal, light_index, *, mistake=None) -> dict:
         "light": light_index,
         "light_name": None,
         "parts": [],
-        "display_note": DISPLAY_NOTES[scene.display],
+        "display_note": display_note(scene),
         "mistake": None,
     }
     if mistake is not None:
@@ -326,12 +345,12 @@ def _shadow_lines(scene, record, blocked_by) -> list[dict]:
             start = (f", which starts {scene.shadow_bias:g} from the point towards the light"
                      if scene.shadow_bias >= 0.01 else "")
             lines.append({"light": name, "state": "lit", "blocker": None,
-                          "text": f"{name.capitalize()}: lit here (no object blocks its shadow ray{start})."})
+                          "text": f"{name.capitalize()}: lit here, S = 1 (no object blocks its shadow ray{start})."})
         else:
             by = objects[blocked_by[light.index]].label
             lines.append({"light": name, "state": "in shadow", "blocker": by,
-                          "text": f"{name.capitalize()}: in shadow here (blocked by the {by}): it adds neither "
-                                  "diffuse nor specular light."})
+                          "text": f"{name.capitalize()}: in shadow here (blocked by the {by}): S = 0, so it adds "
+                                  "neither diffuse nor specular light."})
     return lines
 
 

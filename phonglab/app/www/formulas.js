@@ -4,8 +4,10 @@
 // readout's substituted equation (.eq-row). One wider than its box is first scaled down,
 // but not below MIN_SCALE of its size (smaller indices become unreadable); if it still
 // does not fit, it is broken into lines before its top-level operators (=, ≈, +, −, then
-// · and ∘), each continuation line indented; a piece that is still too wide scrolls
-// sideways within its box, with a fade at the edge where more of it is hidden.
+// · and ∘), each continuation line indented: each side of an = on its own line once a row
+// is broken at all, and a fraction wider than a line with its denominator in lines; a piece
+// that is still too wide scrolls sideways within its box, with a fade at the edge where
+// more of it is hidden.
 (function () {
   const MIN_SCALE = 0.9;
   // break before these operators, the first group first
@@ -55,7 +57,7 @@
     if (!math) return null;
     const original = originals.get(box);
     if (!original) originals.set(box, math.cloneNode(true));
-    else if (math.querySelector(":scope > mtable.math-lines")) {
+    else if (math.querySelector("mtable.math-lines")) {
       const fresh = original.cloneNode(true);
       math.replaceWith(fresh);
       math = fresh;
@@ -98,11 +100,12 @@
 
   // lines of a row that fit in `room`: break before operators of the highest priority that
   // does (greedy, each line as long as fits), else add the next group of operators; returns
-  // lists of children, or null when the row cannot be broken
+  // {parts: lists of children, inner: per line, whether it continues a side (indented twice)},
+  // or null when the row cannot be broken
   function lines(row, room) {
     // groups stay whole (their brackets keep their size) when breaking outside them is enough
     const outside = linesOf(row, room, false);
-    return outside && outside.fits ? outside.parts : (linesOf(row, room, true) || outside || {}).parts || null;
+    return outside && outside.fits ? outside : linesOf(row, room, true) || outside || null;
   }
 
   function linesOf(row, room, deep) {
@@ -111,27 +114,48 @@
     const left = kids.map((k) => k.getBoundingClientRect().left);
     const right = kids.map((k) => k.getBoundingClientRect().right);
     const indent = 1.2 * parseFloat(getComputedStyle(row).fontSize);
-    const width = (from, to, first) => right[to - 1] - left[from] + (first ? 0 : indent);
-    let allowed = [];
-    let cuts = null;
-    for (const level of points) {
-      if (!level.length) continue;
-      allowed = allowed.concat(level).sort((a, b) => a - b);
-      cuts = [];
-      let from = 0, last = null;
-      for (const at of allowed.concat([kids.length])) {
-        if (width(from, at, !cuts.length) <= room) { last = at; continue; }
-        if (last !== null && last > from && last < kids.length) { cuts.push(last); from = last; }
-        if (at < kids.length && width(from, at, !cuts.length) > room && at > from) { cuts.push(at); from = at; last = null; }
+    // a line from a relation is indented once; a line within a side (after a relation's line), twice
+    let sides = false;
+    const width = (from, to) => right[to - 1] - left[from] + (!from ? 0 : sides && !points[0].includes(from) ? 2 * indent : indent);
+    // cuts within [start, end): each line as long as fits, before one of `allowed`
+    const greedy = (start, end, allowed) => {
+      const cuts = [];
+      let from = start, last = null;
+      for (const at of allowed.filter((p) => p > start && p < end).concat([end])) {
+        if (width(from, at) <= room) { last = at; continue; }
+        if (last !== null && last > from && last < end) { cuts.push(last); from = last; }
+        if (at < end && width(from, at) > room && at > from) { cuts.push(at); from = at; last = null; }
         else last = at;
       }
-      const starts = [0].concat(cuts), ends = cuts.concat([kids.length]);
-      if (starts.every((s, i) => width(s, ends[i], i === 0) <= room)) break;
+      return cuts;
+    };
+    const bounds = (cuts) => [[0].concat(cuts), cuts.concat([kids.length])];
+    const fitting = (cuts) => { const [starts, ends] = bounds(cuts); return starts.every((s, i) => width(s, ends[i]) <= room); };
+    // a chain of relations (a worked row: formula = numbers = value) is cut at its relations first, so
+    // that a side broken within never shares a line with another side: "= 0.040 + (1 − 0.040)·…" then
+    // reads as the substitution, not as the formula's value; a side still too wide is then broken
+    // within at the next operators (+ −, then · ∘, ...). A single relation (the lesson's "I = …")
+    // may keep its short left side on the first line.
+    const chain = points[0].length > 1;
+    const fixed = chain ? greedy(0, kids.length, points[0]) : [];
+    sides = fixed.length > 0;
+    let cuts = fixed;
+    if (!fitting(cuts)) {
+      let allowed = [];
+      for (const level of chain ? points.slice(1) : points) {
+        if (!level.length) continue;
+        allowed = allowed.concat(level).sort((a, b) => a - b);
+        const [starts, ends] = bounds(fixed);
+        cuts = fixed.slice();
+        starts.forEach((s, i) => { if (width(s, ends[i]) > room) cuts.push(...greedy(s, ends[i], allowed)); });
+        cuts.sort((a, b) => a - b);
+        if (fitting(cuts)) break;
+      }
     }
-    if (!cuts || !cuts.length) return null;
-    const starts = [0].concat(cuts), ends = cuts.concat([kids.length]);
-    const fits = starts.every((s, i) => width(s, ends[i], i === 0) <= room);
-    return { parts: starts.map((s, i) => kids.slice(s, ends[i])), fits };
+    if (!cuts.length) return null;
+    const [starts, ends] = bounds(cuts);
+    return { parts: starts.map((s, i) => kids.slice(s, ends[i])), fits: fitting(cuts),
+             inner: starts.map((s) => s > 0 && sides && !points[0].includes(s)) };
   }
 
   // a piece that starts with its operator keeps the operator's spacing (binary, not a sign)
@@ -142,27 +166,50 @@
     return mrow;
   }
 
-  // the formula, still one <math>, as a one-column table of its lines (the first line's
-  // pieces, then each continuation line from its operator on)
-  function breakInto(box, math, room) {
-    let row = math;
-    while (row.children.length === 1 && ["mrow", "semantics"].includes(row.firstElementChild.localName)) row = row.firstElementChild;
-    const parts = lines(row, room);
-    if (!parts) return false;
-    const ns = math.namespaceURI;
+  // a one-column table of a row's lines (the first line's pieces, then each continuation line from its
+  // operator on; a line within a side marked to be indented twice)
+  function linesTable(ns, found) {
     const table = document.createElementNS(ns, "mtable");
     table.setAttribute("class", "math-lines");
-    parts.forEach((part, i) => {
+    found.parts.forEach((part, i) => {
       const tr = document.createElementNS(ns, "mtr");
       const td = document.createElementNS(ns, "mtd");
+      if (found.inner[i]) td.setAttribute("class", "math-inner");
       const mrow = document.createElementNS(ns, "mrow");
       part.forEach((kid) => mrow.appendChild(kid.cloneNode(true)));
       td.appendChild(i ? infix(mrow) : mrow);
       tr.appendChild(td);
       table.appendChild(tr);
     });
-    math.replaceChildren(table);
+    return table;
+  }
+
+  // the formula, still one <math>, as a table of its lines
+  function breakInto(box, math, room) {
+    let row = math;
+    while (row.children.length === 1 && ["mrow", "semantics"].includes(row.firstElementChild.localName)) row = row.firstElementChild;
+    const found = lines(row, room);
+    if (!found) return false;
+    math.replaceChildren(linesTable(math.namespaceURI, found));
     return true;
+  }
+
+  // a fraction too wide for a line of its own (a long denominator, such as V's 2(n·l √(…) + n·v √(…)) with
+  // its numbers put in) cannot be cut at the row's operators: its denominator is broken into lines
+  // (a table under the fraction bar), at its own operators, continuation lines indented
+  function breakFractions(math, room) {
+    const indent = 1.2 * parseFloat(getComputedStyle(math).fontSize);
+    let broken = false;
+    math.querySelectorAll("mfrac").forEach((frac) => {
+      if (frac.children.length !== 2 || frac.getBoundingClientRect().width <= room - indent) return;
+      let row = frac.children[1];
+      while (row.children.length === 1 && row.firstElementChild.localName === "mrow") row = row.firstElementChild;
+      const found = lines(row, room - 2 * indent);
+      if (!found) return;
+      frac.children[1].replaceWith(linesTable(math.namespaceURI, found));
+      broken = true;
+    });
+    return broken;
   }
 
   function fit(el) {
@@ -185,9 +232,10 @@
         natural = math.scrollWidth;
       }
       if (natural > room) {
-        // still too wide: full size again, in lines
+        // still too wide: full size again, in lines (a fraction wider than a line, its denominator first)
         box.style.removeProperty("--math-scale");
-        breakInto(box, math, room);
+        if (breakFractions(math, room)) natural = math.scrollWidth;
+        if (natural > room) breakInto(box, math, room);
       }
     }
     edges(box);
