@@ -13,8 +13,8 @@ from phonglab.accuracy import grade_picture
 from phonglab.teaching.sandbox import Limits
 
 
-@pytest.mark.parametrize("error", [0.0012, 0.35, 1.0])
-def test_every_caption_stays_within_its_panel(monkeypatch, error):
+def picture_off_by(monkeypatch, error):
+    """The grader's picture (PNG bytes) of a student whose square of colour is ``error`` off the core's everywhere."""
     def spheres(file, limits):
         mask = np.zeros((grade_picture.PICTURE_SIZE,) * 2, bool)
         mask[20:70, 20:70] = True
@@ -23,6 +23,12 @@ def test_every_caption_stays_within_its_panel(monkeypatch, error):
 
     monkeypatch.setattr(grade_picture, "sphere_images", spheres)
     data, _ = grade_picture.picture_png("unused.py", Limits())
+    return data
+
+
+@pytest.mark.parametrize("error", [0.0012, 0.35, 1.0])
+def test_every_caption_stays_within_its_panel(monkeypatch, error):
+    data = picture_off_by(monkeypatch, error)
     image = np.asarray(Image.open(io.BytesIO(data)).convert("L"))
     panel, gap = grade_picture.PICTURE_SIZE * 2, 8
     top = int(np.argmax(image[:, gap + panel - 3] < 100))  # the first panel's dark background begins
@@ -52,14 +58,7 @@ def test_captions_wrap_at_spaces_within_the_width():
 @pytest.mark.parametrize("error", [0.0005, 0.03, 0.4])
 def test_the_difference_map_has_a_colour_scale_a_reader_can_look_its_colours_up_on(monkeypatch, error):
     """Under the difference panel a bar runs over the map's range in its colours, its ends and middle labelled."""
-    def spheres(file, limits):
-        mask = np.zeros((grade_picture.PICTURE_SIZE,) * 2, bool)
-        mask[20:70, 20:70] = True
-        core = np.where(mask[..., None], np.full(mask.shape + (3,), 0.4), np.nan)
-        return core, core + error, mask, 0
-
-    monkeypatch.setattr(grade_picture, "sphere_images", spheres)
-    data, _ = grade_picture.picture_png("unused.py", Limits())
+    data = picture_off_by(monkeypatch, error)
     image = np.asarray(Image.open(io.BytesIO(data)).convert("RGB")).astype(int)
     panel, gap, caption = grade_picture.PICTURE_SIZE * 2, 8, grade_picture.CAPTION_HEIGHT
     x0 = gap + 2 * (panel + gap)
