@@ -59,7 +59,9 @@ def test_only_a_slider_with_a_key_step_takes_the_arrow_keys():
     assert '"' not in handler and f"* {ctl.SHININESS_KEY_STEP!r}" in handler, handler
     bias = widgets["shadow_bias"]
     assert "keydown_capture" in slider_attributes(bias) and f"* {ctl.SHADOW_BIAS_KEY_STEP!r}" in key_step_handler(bias)
-    others = [c for c in widgets.values() if c.kind == "slider" and c not in (shininess, bias)]
+    stepped = [c for c in widgets.values() if c.path.endswith(".intensity")]
+    assert stepped and all(f"* {ctl.INTENSITY_KEY_STEP!r}" in key_step_handler(c) for c in stepped), stepped
+    others = [c for c in widgets.values() if c.kind == "slider" and c not in (shininess, bias, *stepped)]
     assert others and all(set(slider_attributes(c)) == {"name"} for c in others), others
 
 
@@ -70,6 +72,15 @@ def test_the_shadow_offset_reaches_leaking_in_tens_of_key_presses_and_a_drag_sti
     presses = (0.5 - bias.low) / (bias.key_step or bias.step)
     assert presses <= 60, (bias.low, bias.high, bias.step, bias.key_step, presses)
     assert bias.step == 0.001, bias  # the lesson's 0.001, which removes the acne, is a step of a drag
+
+
+def test_a_lights_intensity_goes_from_off_to_full_in_twenty_key_presses():
+    """It moved 0.01 per arrow key: 100 presses from off to 1, 500 to the slider's end."""
+    widgets = {c.path: c for c in ctl.scene_controls(ENTRIES[0].scene)}
+    intensities = [c for c in widgets.values() if c.path.endswith(".intensity")]
+    assert intensities, sorted(widgets)
+    for c in intensities:
+        assert (1.0 - c.low) / (c.key_step or c.step) <= 20, (c.path, c.low, c.high, c.step, c.key_step)
 
 
 #: characters that act instead of showing: NUL, escape, a right-to-left override, a zero-width joiner, a line separator

@@ -56,6 +56,8 @@ EXPOSURE_RANGE = (0.05, 4.0)
 SHADOW_BIAS_SLIDER = (0.0, 1.0)
 #: one arrow key on it: 0.01, so 0.5 (leaking) is 50 presses away, not 500; dragging still snaps to 0.001
 SHADOW_BIAS_KEY_STEP = 0.01
+#: one arrow key on a light's intensity (0 to 5): 0.05, so 1 is 20 presses from 0, not 100; a drag snaps to 0.01
+INTENSITY_KEY_STEP = 0.05
 #: the shininess slider spans α = 10**0 .. 10**3
 SHININESS_LOG_RANGE = (0.0, 3.0)
 #: one arrow key on the shininess slider: 0.03 in log10 α, α × 1.07 (dragging still snaps to 0.01)
@@ -219,7 +221,7 @@ def _light_controls(scene, index: int, frame: Frame, read_field) -> list[Control
     )
     # up to 5: lesson 7's lamp under inverse-square fall-off needs 5 to light its floor
     controls.append(_field(f"{base}.intensity", "intensity", "slider", read_field, low=0.0, high=5.0, step=0.01,
-                           group=group))
+                           group=group, key_step=INTENSITY_KEY_STEP))
     if isinstance(light, core.PointLight):  # point and spot
         # c reaches 1: the physical inverse square (0, 0, 1) of lesson 7
         for i, (name, high, step) in enumerate((("a (constant)", 2.0, 0.01), ("b (linear)", 1.0, 0.01),
