@@ -575,23 +575,25 @@ const VIEW_NAME = "The scene in 3D: drag to turn it, the wheel zooms, a click mo
 
 // The check question's feedback comes from the server under the Check button, often below the
 // column's fold at laptop sizes: once it shows (or changes) after a press of Check, the column
-// scrolls just enough to show it.
+// scrolls just enough to show it. The check's block is watched only from the press until then (at
+// most 30 s), not the whole page all the time: the letters over the view change every frame of a drag.
 (function () {
-  let asked = 0;
+  let watching = null;
+  const stop = () => { if (watching) { watching.observer.disconnect(); clearTimeout(watching.timer); watching = null; } };
   document.addEventListener("click", (event) => {
-    if (event.target && event.target.closest && event.target.closest(".phonglab-check-btn")) asked = Date.now();
+    const button = event.target && event.target.closest && event.target.closest(".phonglab-check-btn");
+    const block = button && button.closest(".phonglab-check");
+    if (!block) return;
+    stop();
+    const observer = new MutationObserver(() => {
+      const feedback = block.querySelector(".phonglab-check-feedback");
+      if (!feedback) return;
+      stop();
+      feedback.scrollIntoView({ block: "nearest", behavior: "smooth" });
+    });
+    observer.observe(block, { childList: true, subtree: true, characterData: true });
+    watching = { observer, timer: setTimeout(stop, 30000) };
   }, true);
-  const answered = (record) => {
-    const node = record.target.nodeType === 1 ? record.target : record.target.parentElement;
-    return node && node.closest && node.closest(".phonglab-check");
-  };
-  new MutationObserver((records) => {
-    if (!asked || Date.now() - asked > 30000 || !records.some(answered)) return;
-    const feedback = document.querySelector(".phonglab-check-feedback");
-    if (!feedback) return;
-    asked = 0;
-    feedback.scrollIntoView({ block: "nearest", behavior: "smooth" });
-  }).observe(document.documentElement, { childList: true, subtree: true, characterData: true });
 })();
 
 // A drag that turns the view ends with a click event too; only a click that
