@@ -175,10 +175,13 @@ class Label:
         letter -> its own box ``(left, top, right, bottom)`` on the image (the glyph's ink, outline included).
     centre : ndarray
         The label's centre.
+    font, stroke
+        The font and the outline's width (pixels) the pieces are drawn with.
     """
 
     def __init__(self, letters, colours, centre, fnt, stroke: int):
         self.letters, self.colours, self.centre = tuple(letters), tuple(colours), centre
+        self.font, self.stroke = fnt, stroke  # what the pieces are drawn with (:func:`draw_labels`)
         texts = [JOIN if i % 2 else self.letters[i // 2] for i in range(2 * len(self.letters) - 1)]
         colour = [JOIN_COLOR if i % 2 else self.colours[i // 2] for i in range(len(texts))]
         x = float(centre[0]) - fnt.getlength("".join(texts)) / 2
@@ -213,10 +216,10 @@ def label_layout(labels, size) -> list[Label]:
     stroke = max(1, size_px // 10)
     tips = [np.asarray(xy, dtype=float) for _, xy, _, _ in labels]
     groups = share_labels(tips, TOGETHER * size_px)
+    # each label's half extent from its centre (a letter's box anchored at its middle ends there)
+    extents = [max(max(fnt.getbbox(labels[i][0], anchor="mm")[2:]) for i in group) for group in groups]
     anchors, directions, offsets, halves = [], [], [], []
-    for group in groups:
-        # each letter's half extent from its centre (a box anchored at its middle ends there)
-        extent = max(max(fnt.getbbox(labels[i][0], anchor="mm")[2:]) for i in group)
+    for group, extent in zip(groups, extents):
         anchors.append(np.mean([tips[i] for i in group], axis=0))
         # the arrows share their base (the probe): the mean direction ends at the tips' middle
         directions.append(np.mean([np.asarray(labels[i][2], dtype=float) for i in group], axis=0))
@@ -229,8 +232,8 @@ def label_layout(labels, size) -> list[Label]:
             halves.append((max(-left, right) + 1, extent + 1))
     centres = place_labels(anchors, directions, offsets, halves, size)
     out = []
-    for group, centre in zip(groups, centres):
-        half_y = 0.5 * max(max(fnt.getbbox(labels[i][0], anchor="mm")[2:]) for i in group) + 2
+    for group, centre, extent in zip(groups, centres, extents):
+        half_y = 0.5 * extent + 2
         half_x = half_y if len(group) == 1 else 0.5 * fnt.getlength(JOIN.join(labels[i][0] for i in group)) + 2
         centre = np.clip(centre, [half_x, half_y], [size[0] - half_x, size[1] - half_y])  # inside the image
         out.append(Label([labels[i][0] for i in group], [labels[i][3] for i in group], centre, fnt, stroke))
@@ -254,17 +257,14 @@ def draw_labels(image: np.ndarray, labels) -> np.ndarray:
         A new image with the labels, each about its own tip; the letters of
         arrows whose tips meet share one label, "N, L, R" (:func:`label_layout`).
     """
-    height = image.shape[0]
-    size = max(12, round(height / 24))
-    fnt = font(size, bold=True)
     out = Image.fromarray(image)
     draw = ImageDraw.Draw(out)
-    for label in label_layout(labels, (image.shape[1], height)):
+    for label in label_layout(labels, (image.shape[1], image.shape[0])):
         for text, at, rgb, anchor in label.pieces:
             # a dark outline keeps the letter readable on bright highlights
             draw.text(
-                at, text, font=fnt, anchor=anchor, fill=tuple(int(c) for c in rgb),
-                stroke_width=max(1, size // 10), stroke_fill=(15, 15, 20),
+                at, text, font=label.font, anchor=anchor, fill=tuple(int(c) for c in rgb),
+                stroke_width=label.stroke, stroke_fill=(15, 15, 20),
             )
     return np.asarray(out)
 
