@@ -16,7 +16,6 @@ from phonglab.render.framing import (
     FRAME_PAD,
     MAX_VIEW_ANGLE,
     fitted_view_angle,
-    label_box,
     label_offsets,
     view_angle_for_tips,
 )
@@ -65,15 +64,6 @@ def test_fitted_view_angle_keeps_the_scenes_and_leaves_a_moved_camera_alone():
     moved = ((1.0, 0.0, 4.0), scene_camera.focal_point, scene_camera.up)
     assert fitted_view_angle(scene_camera, *moved, [(3.0, 0.0, 0.0)], **args) is None
     assert stands_at(np.add(scene_camera.eye, 1e-9), scene_camera.focal_point, scene_camera)
-
-
-@pytest.mark.parametrize("tip, base, centre", [
-    ((50.0, 50.0), (10.0, 50.0), (62.0, 50.0)),   # arrow to the right: the letter beyond it on the right
-    ((50.0, 50.0), (50.0, 50.0), (50.0, 38.0)),   # seen end-on: the letter straight above the tip
-])
-def test_label_box_sits_beyond_the_tip(tip, base, centre):
-    box = label_box(tip, base, 12.0, 5.0)
-    assert box == pytest.approx((centre[0] - 5, centre[1] - 5, centre[0] + 5, centre[1] + 5)), (tip, base, box)
 
 
 def test_label_offsets_stack_only_coinciding_arrows():

@@ -154,21 +154,6 @@ def label_reach(height: int, letters) -> float:
     return offset + half + max(1, size // 10) + 2.0
 
 
-def label_box(tip, base, offset: float, half: float) -> tuple[float, float, float, float]:
-    """The box ``(left, top, right, bottom)`` of a letter placed beyond an arrow's tip on an image.
-
-    ``tip`` and ``base`` are the arrow's ends in image pixels; the letter's
-    centre lies ``offset`` pixels past the tip along the arrow (straight up
-    for an arrow seen end-on), ``half`` pixels from each side of its box.
-    """
-    tip = np.asarray(tip, dtype=float)
-    d = tip - np.asarray(base, dtype=float)
-    norm = np.linalg.norm(d)
-    d = d / norm if norm > 1e-9 else np.array([0.0, -1.0])
-    centre = tip + d * offset
-    return (float(centre[0] - half), float(centre[1] - half), float(centre[0] + half), float(centre[1] + half))
-
-
 def label_offsets(letters, directions) -> dict[str, int]:
     """How many lines down to shift each letter so nearly coinciding arrows stay readable.
 
