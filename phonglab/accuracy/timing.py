@@ -33,7 +33,7 @@ def _loops(seconds: float, min_seconds: float) -> int:
 
 
 def best_time(fn, repeats: int, *, warmup: bool = True, min_seconds: float = 0.005,
-                clock=time.perf_counter) -> tuple[float, object]:
+              clock=time.perf_counter) -> tuple[float, object]:
     """The fastest wall-clock time of one ``fn()`` call over ``repeats`` samples, and its last result.
 
     Untimed calls (:data:`WARMUPS`) warm caches and lazy imports (unless ``warmup`` is
@@ -69,13 +69,12 @@ def interleaved_times(fns: dict, repeats: int, *, min_seconds: float = 0.005, cl
     them instead of penalising whichever ran then, so their ratios are fair.
     Returns ``{name: fastest seconds per call}``.
     """
-    loops, samples = {}, {}
+    loops, samples = {}, {name: [] for name in fns}
     for _ in range(WARMUPS):
         for name, fn in fns.items():
             start = clock()
             fn()  # warm up, and size the loop on the last warm-up
             loops[name] = _loops(clock() - start, min_seconds)
-            samples[name] = []
     for _ in range(max(1, repeats)):
         for name, fn in fns.items():
             start = clock()
