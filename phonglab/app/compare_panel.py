@@ -120,7 +120,8 @@ class ComparePanel:
             self._failed(ServerBusy("the server is busy with other pictures"))
 
     def _done(self, pictures: list[bytes]) -> None:
-        (scene, _, stacked), self._shown, self._making = self._making, self._making, None
+        self._shown, self._making = self._making, None
+        scene, _, stacked = self._shown
         if self._wanted is None:
             return  # switched off meanwhile
         panels = [{"model": model, "caption": model_label(scene, model), "own": model == scene.model,
